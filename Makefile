@@ -1,0 +1,36 @@
+# Two commands on a fresh machine (each builds .venv when it is missing):
+#   make repro   runs the pipeline (`dvc repro`) on params.yaml
+#   make test    runs the test suite (fast tests, then the slow end-to-end ones)
+PYTHON ?= python3.11
+VENV := .venv
+BIN := $(VENV)/bin
+export PATH := $(CURDIR)/$(BIN):$(PATH)
+export MLFLOW_DISABLE_TELEMETRY := true
+export DVC_NO_ANALYTICS := true
+export MLFLOW_TRACKING_URI ?= sqlite:///$(CURDIR)/mlflow.db
+
+.PHONY: repro test test-fast bench lint
+
+$(VENV)/.installed: pyproject.toml
+	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install --quiet --upgrade pip
+	$(BIN)/python -m pip install --quiet torch==2.13.0
+	$(BIN)/python -m pip install --quiet -e '.[dev,bench]'
+	touch $@
+
+repro: $(VENV)/.installed
+	dvc repro
+
+test: $(VENV)/.installed
+	pytest -q
+	pytest -q -m slow
+
+test-fast: $(VENV)/.installed
+	pytest -q
+
+bench: $(VENV)/.installed
+	for b in bench/bench_*.py; do python $$b || exit 1; done
+
+lint: $(VENV)/.installed
+	ruff check .
+	ruff format --check .

@@ -1,0 +1,221 @@
+"""Typed settings: the one schema every stage validates ``params.yaml`` against.
+
+The models are pure (no file IO); ``stages.params`` reads the YAML and builds them. Every model
+forbids unknown keys, so a typo fails loudly with its key path instead of being ignored.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field, ValidationInfo, field_validator, model_validator
+
+Positive = Annotated[float, Field(gt=0)]
+NonNegative = Annotated[float, Field(ge=0)]
+Fraction = Annotated[float, Field(gt=0, le=1)]
+Objective = Literal["fs1", "fs2", "fs3", "fs4", "fs5", "fs6", "fs7"]
+
+
+class Strict(BaseModel):
+    """Base for every settings block: unknown keys are errors, values are immutable."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class Point(Strict):
+    """A point or vector in the sagittal plane (x along the wall, z away from it), SI units."""
+
+    x: float
+    z: float
+
+
+class Timing(Strict):
+    """End times of the detachment, swing and adhesion segments (FTFOF eq. 2), seconds."""
+
+    T1: Positive
+    T2: Positive
+    T3: Positive
+
+    @model_validator(mode="after")
+    def _ordered(self) -> Timing:
+        if not self.T1 < self.T2 < self.T3:
+            raise ValueError(f"must satisfy T1 < T2 < T3 (got {self.T1}, {self.T2}, {self.T3})")
+        return self
+
+    @property
+    def durations(self) -> tuple[float, float, float]:
+        return (self.T1, self.T2 - self.T1, self.T3 - self.T2)
+
+    @property
+    def bounds(self) -> tuple[float, float, float, float]:
+        return (0.0, self.T1, self.T2, self.T3)
+
+    def grid(self, n: int) -> np.ndarray:
+        """``n`` equally spaced times over [0, T3], both ends included."""
+        return np.linspace(0.0, self.T3, n)
+
+
+class Foot(Strict):
+    """Pad geometry that shapes the constraint policy (FTFOF §VI.A, Fig. 6-7)."""
+
+    pad_length: Positive  # lf, m
+    film_min_bend_radius: Positive  # fc, m
+    droop_height: NonNegative  # hs, m
+
+
+class MinDetachment(Strict):
+    """Minimum detachment point md = (ld along x, hd along z), metres (FTFOF §III.B.3)."""
+
+    ld: NonNegative
+    hd: Positive
+
+
+class Limit(Strict):
+    """A foot position or velocity limit: derived from the leg (eq. 7-8) or pinned by the preset.
+
+    ``pinned`` is the final value, after the safety factor; without it the leg model is searched.
+    """
+
+    safety_factor: Fraction
+    pinned: Point | None = None
+
+
+JointRange = tuple[float, float]
+
+
+class PlanarLeg(Strict):
+    """Planar hip-knee-ankle leg; the ankle keeps the foot plate parallel to the wall."""
+
+    type: Literal["planar3"]
+    hip: Point  # hip joint in the trajectory frame (origin P0), m
+    links: tuple[Positive, Positive]  # thigh, shank, m
+    foot_offset: Point  # pad contact point relative to the ankle, m
+    joint_limits: tuple[JointRange, JointRange, JointRange]  # rad
+    joint_speed_limits: tuple[Positive, Positive, Positive]  # rad/s
+
+    @model_validator(mode="after")
+    def _ranges(self) -> PlanarLeg:
+        _check_ranges(self.joint_limits)
+        return self
+
+
+class SpatialLeg(Strict):
+    """3-DOF leg of eps_bezier.txt (D-H table I, eq. 5-6); the trajectory lies in y = 0."""
+
+    type: Literal["spatial3"]
+    hip: Point  # origin of the D-H chain {O_1} in the trajectory frame, m
+    lateral_offset: float = 0.0  # y0, m
+    d: tuple[Positive, Positive, Positive, NonNegative]  # d1, d2, d3, d4, m
+    joint_limits: tuple[JointRange, JointRange, JointRange]
+    joint_speed_limits: tuple[Positive, Positive, Positive]
+
+    @model_validator(mode="after")
+    def _ranges(self) -> SpatialLeg:
+        _check_ranges(self.joint_limits)
+        return self
+
+
+def _check_ranges(ranges: tuple[JointRange, ...]) -> None:
+    for i, (lo, hi) in enumerate(ranges):
+        if not lo < hi:
+            raise ValueError(f"joint {i + 1} limit must be an increasing pair (got [{lo}, {hi}])")
+
+
+Leg = Annotated[PlanarLeg | SpatialLeg, Field(discriminator="type")]
+
+
+class Shape(Strict):
+    """Trajectory shape rules (FTFOF eq. 18-22) chosen per foot structure."""
+
+    detachment: Literal["upper_triangle", "vertical"]
+    adhesion: Literal["arc_from_right", "vertical_press"]
+    complete_detachment: Literal["peel", "vertical"]
+    press_depth: NonNegative = 0.0  # how far the adhesion segment may go into the wall, m
+
+
+class Robot(Strict):
+    """Everything that describes one robot's leg and foot for the pipeline."""
+
+    description: str = ""
+    landing: Point  # P15 relative to P0, m
+    timing: Timing
+    foot: Foot
+    min_detachment: MinDetachment
+    leg: Leg
+    position_limit: Limit
+    velocity_limit: Limit
+    shape: Shape
+    objectives: Annotated[list[Objective], Field(min_length=2)]  # priority order for RHS
+    pre_pressure: Positive  # a, N (FTFOF eq. 12)
+
+    @model_validator(mode="after")
+    def _objectives_unique(self) -> Robot:
+        if len(set(self.objectives)) != len(self.objectives):
+            raise ValueError(f"objectives must not repeat (got {self.objectives})")
+        if "fs6" in self.objectives:
+            raise ValueError("fs6 is the bending constraint, not an objective")
+        return self
+
+
+class Base(Strict):
+    seed: Annotated[int, Field(ge=0)]
+
+
+class Feasibility(Strict):
+    """How the sampled trajectory is checked (DESIGN §4)."""
+
+    n_t: Annotated[int, Field(ge=16)] = 256  # time samples over [0, T3]
+    position_tolerance: NonNegative = 1e-6  # m
+    bend_tolerance: NonNegative = 1e-9  # rad, fs6 <= this counts as 0
+    min_step: Positive = 1e-9  # m, displacements shorter than this are skipped by fs6
+
+
+class Sample(Strict):
+    n: Annotated[int, Field(ge=1)]
+    design: Literal["sobol", "lhs"] = "sobol"
+    batch: Annotated[int, Field(ge=16)] = 4096
+    max_draws: Annotated[int, Field(ge=16)] = 4_000_000
+
+
+class EpsBezier(Strict):
+    """ε-Bezier baseline (eps_bezier.txt §III): obstacle box and the sigmoid truncation ε."""
+
+    epsilon: Positive
+    obstacle_x: tuple[float, float]  # x of the obstacle's top corners O1, O2, m
+    obstacle_height: Positive  # m
+    clearance: NonNegative = 0.1  # relative margin of the peak over the obstacle point O_p
+
+
+class Baselines(Strict):
+    """Common trajectories from P0 to P15 in the same total time (DESIGN §11)."""
+
+    lift_height: Positive  # polynomial and cycloid apex, m
+    eps_bezier: EpsBezier
+    random_seed_offset: Annotated[int, Field(ge=0)] = 1
+
+
+class Params(Strict):
+    """The whole ``params.yaml``."""
+
+    base: Base
+    robots: dict[str, Robot]
+    robot: str
+    feasibility: Feasibility = Feasibility()
+    baselines: Baselines
+    sample: Sample
+
+    @field_validator("robot")
+    @classmethod
+    def _selected_exists(cls, name: str, info: ValidationInfo) -> str:
+        return _preset_name(name, info.data.get("robots"))
+
+    @property
+    def selected_robot(self) -> Robot:
+        return self.robots[self.robot]
+
+
+def _preset_name(name: str, presets: dict | None) -> str:
+    if presets is not None and name not in presets:
+        raise ValueError(f"{name!r} is not a preset (have {', '.join(sorted(presets))})")
+    return name

@@ -1,0 +1,117 @@
+"""The seven strategy functions fs1..fs7 (FTFOF §V.A, DESIGN §9), vectorised over a population.
+
+Every function takes (pop, n) or (pop, n, d) arrays and returns (pop,). fs1, fs2, fs3 and fs7 read
+force series (predicted or simulated); fs4, fs5 and fs6 read the sampled trajectory.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+from numpy.typing import NDArray
+
+Array = NDArray[np.float64]
+
+DETACHED_FRACTION = 0.05  # fs2: detachment is complete once Fd falls below 5 % of its peak
+JITTER_SIGMAS = 3.0  # fs7: m, the z-score threshold
+
+
+def fs1_max_detachment(Fd: Array) -> Array:
+    """Peak detachment force (eq. 10)."""
+    return np.max(Fd, axis=-1)
+
+
+def fs2_mean_detachment(Fd: Array) -> Array:
+    """Mean Fd from t = 0 to complete detachment (eq. 11).
+
+    Complete detachment is the first sample after the peak where Fd drops below 5 % of the peak;
+    if it never does, the window runs to the end of the series.
+    """
+    Fd = np.asarray(Fd, dtype=float)
+    n = Fd.shape[-1]
+    idx = np.arange(n)
+    peak_at = np.argmax(Fd, axis=-1)[..., None]
+    peak = np.take_along_axis(Fd, peak_at, axis=-1)
+    below = (idx > peak_at) & (Fd < DETACHED_FRACTION * peak)
+    end = np.where(below.any(axis=-1), np.argmax(below, axis=-1), n - 1)
+    window = idx <= end[..., None]
+    return np.sum(np.where(window, Fd, 0.0), axis=-1) / (end + 1)
+
+
+def fs3_pre_pressure_error(Fp: Array, target: float) -> Array:
+    """Distance of the peak pre-pressure from the optimal pre-pressure a (eq. 12)."""
+    return np.abs(np.max(Fp, axis=-1) - target)
+
+
+def fs4_mean_height(position: Array) -> Array:
+    """Mean z of the trajectory samples (eq. 13)."""
+    return np.mean(position[..., 1], axis=-1)
+
+
+def fs5_adhesion_path_length(velocity: Array, t: Array, t_start: float, t_end: float) -> Array:
+    """Path length over the adhesion segment, the integral of |B'(t)| over [T2, T3] (eq. 14).
+
+    Trapezoidal rule over the samples inside the window (the grid should include T2 and T3 or be
+    fine enough for the error to be negligible).
+    """
+    sel = np.flatnonzero((t >= t_start - 1e-12) & (t <= t_end + 1e-12))
+    lo, hi = sel[0], sel[-1] + 1
+    speed = np.sqrt(sum(velocity[..., lo:hi, k] ** 2 for k in range(velocity.shape[-1])))
+    return np.trapezoid(speed, t[lo:hi], axis=-1)
+
+
+def fs6_bending(position: Array, min_step: float) -> Array:
+    """Sum of the turning angles above 90 degrees between consecutive displacements (eq. 15).
+
+    Displacements shorter than ``min_step`` carry no direction (the ends, where the velocity is
+    zero) and are skipped: each displacement is compared with the previous *kept* one, so a
+    reversal through a standstill still counts. arccos(c) - pi/2 = arcsin(-c). Always >= 0.
+    One compiled pass per trajectory: this runs on every candidate of every generation.
+    """
+    position = np.asarray(position, dtype=float)
+    lead = position.shape[:-2]
+    flat = position.reshape(-1, *position.shape[-2:])
+    out = np.empty(flat.shape[0])
+    _fs6_kernel(flat, float(min_step), out)
+    return out.reshape(lead)
+
+
+@numba.njit(cache=True, nogil=True)
+def _fs6_kernel(pos: Array, min_step: float, out: Array) -> None:  # pragma: no cover - compiled
+    pop, n, d = pos.shape
+    cur = np.empty(d)
+    prev = np.empty(d)
+    for p in range(pop):
+        total = 0.0
+        prev_norm = -1.0
+        for i in range(n - 1):
+            norm2 = 0.0
+            for k in range(d):
+                cur[k] = pos[p, i + 1, k] - pos[p, i, k]
+                norm2 += cur[k] * cur[k]
+            norm = np.sqrt(norm2)
+            if norm <= min_step:
+                continue
+            if prev_norm > 0.0:
+                dot = 0.0
+                for k in range(d):
+                    dot += cur[k] * prev[k]
+                c = dot / (norm * prev_norm)
+                if c < 0.0:
+                    total += np.arcsin(min(-c, 1.0))
+            prev[:] = cur
+            prev_norm = norm
+        out[p] = total
+
+
+def fs7_jitter(Fd: Array, dt: float, m: float = JITTER_SIGMAS) -> Array:
+    """Sum of how far the z-scores of Fd'' exceed m standard deviations (eq. 16).
+
+    A flat second derivative (sigma = 0) has no outliers and scores 0.
+    """
+    acc = np.gradient(np.gradient(np.asarray(Fd, dtype=float), dt, axis=-1), dt, axis=-1)
+    mu = acc.mean(axis=-1, keepdims=True)
+    sigma = acc.std(axis=-1, keepdims=True)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        z = np.where(sigma > 0, (acc - mu) / sigma, 0.0)
+    return np.sum(np.maximum(np.abs(z) - m, 0.0), axis=-1)

@@ -1,0 +1,376 @@
+"""The foot-structure constraint policy (FTFOF §III.B, §VI.A; DESIGN §4).
+
+Turns a robot preset plus its resolved limits into
+
+- the free decision variables and their box (ties such as MST-Q's P10x = P11x = P12x and its
+  vertical detachment P3x = P4x = P5x = P0x are removed by reparameterisation, never posed as
+  equalities);
+- a table of named constraints, each a vectorised violation measure (> 0 means violated) over a
+  population of full 12-value decision vectors, covering the five constraint kinds of the paper
+  plus the bending measure fs6. Swing containment is checked on the *sampled* trajectory (the
+  published MST-M3F optimum has swing control points above Pplz while its curve stays below).
+
+An impossible description (a lower bound at or above its upper bound) raises
+:class:`~ftfof.errors.InfeasibleRobotError` naming the constraint, before anything is sampled.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ftfof import config
+from ftfof.errors import InfeasibleRobotError
+from ftfof.kinematics.limits import RobotLimits
+from ftfof.objectives import fs6_bending
+from ftfof.trajectory.bezier import DECISION_NAMES, Samples, evaluate
+
+Array = NDArray[np.float64]
+KINDS = (
+    "position_limit",
+    "velocity_limit",
+    "min_detachment",
+    "transition",
+    "shape",
+    "bending",
+)
+_COL = {name: i for i, name in enumerate(DECISION_NAMES)}
+
+
+@dataclass(frozen=True)
+class Constraint:
+    """One named rule; ``violation`` maps the context to (pop,) amounts, > 0 = violated."""
+
+    kind: str
+    name: str
+    violation: Callable[[_Context], Array]
+    sampled: bool = False  # needs the sampled trajectory (costly) rather than control points
+
+
+@dataclass
+class _Context:
+    """A population under check: the decision columns and, lazily, its sampled trajectory."""
+
+    X: Array
+    sampler: Callable[[Array], Samples]
+    _samples: Samples | None = field(default=None, repr=False)
+
+    def __getitem__(self, name: str) -> Array:
+        return self.X[:, _COL[name]]
+
+    @property
+    def samples(self) -> Samples:
+        if self._samples is None:
+            self._samples = self.sampler(self.X)
+        return self._samples
+
+
+@dataclass(frozen=True)
+class FeasibilityReport:
+    """Which rows satisfy every constraint, and by how much each one is violated."""
+
+    names: tuple[str, ...]
+    kinds: tuple[str, ...]
+    violations: Array  # (pop, n_constraints)
+
+    @property
+    def feasible(self) -> NDArray[np.bool_]:
+        """Rows with no violation; a NaN (rule not evaluated) never counts as satisfied."""
+        V = self.violations
+        return ~np.any((V > 0) | np.isnan(V), axis=1)
+
+    def failed(self, row: int) -> list[str]:
+        """Human-readable 'kind: rule (by amount)' for each constraint row ``row`` violates."""
+        v = self.violations[row]
+        return [
+            f"{k}: {n} (by {v[j]:.3g})"
+            for j, (k, n) in enumerate(zip(self.kinds, self.names, strict=True))
+            if v[j] > 0
+        ]
+
+    def rejected_by(self) -> dict[str, int]:
+        """How many rows each constraint rejects (a row may count under several)."""
+        counts = np.sum(self.violations > 0, axis=0)
+        return {n: int(c) for n, c in zip(self.names, counts, strict=True)}
+
+    def rejected_by_kind(self) -> dict[str, int]:
+        out = {}
+        for kind in KINDS:
+            cols = [j for j, k in enumerate(self.kinds) if k == kind]
+            if cols:
+                out[kind] = int(np.sum(np.any(self.violations[:, cols] > 0, axis=1)))
+        return out
+
+
+@dataclass(frozen=True)
+class Bound:
+    value: float
+    rule: str
+
+
+class ConstraintPolicy:
+    """Decision space and feasibility rules for one robot."""
+
+    def __init__(
+        self,
+        robot: config.Robot,
+        limits: RobotLimits,
+        feasibility: config.Feasibility,
+        name: str = "robot",
+    ):
+        self.robot = robot
+        self.limits = limits
+        self.feasibility = feasibility
+        self.name = name
+        self.p0 = np.zeros(2)
+        self.p15 = np.array([robot.landing.x, robot.landing.z])
+        self.timing = robot.timing
+        self.t = robot.timing.grid(feasibility.n_t)
+        self._fixed = self._fixed_values()
+        self._follows = self._ties()
+        self.free_names: tuple[str, ...] = tuple(
+            n for n in DECISION_NAMES if n not in self._fixed and n not in self._follows
+        )
+        self.lower, self.upper = self._free_box()
+        self._expand_A, self._expand_c = self._expansion()
+        self.constraints: tuple[Constraint, ...] = self._constraints()
+
+    # --- decision space -----------------------------------------------------------------------
+
+    def _fixed_values(self) -> dict[str, float]:
+        if self.robot.shape.detachment == "vertical":
+            return {"P3x": self.p0[0], "P4x": self.p0[0], "P5x": self.p0[0]}
+        return {}
+
+    def _ties(self) -> dict[str, str]:
+        if self.robot.shape.adhesion == "vertical_press":
+            return {"P11x": "P10x", "P12x": "P10x"}
+        return {}
+
+    def variable_bounds(self) -> dict[str, tuple[Bound, Bound]]:
+        """Box bounds of every non-fixed decision variable with the rule each comes from."""
+        r, lim = self.robot, self.limits.position
+        pplx, pplz = lim
+        lf, hs = r.foot.pad_length, r.foot.droop_height
+        md = r.min_detachment
+        x0, z0 = self.p0
+        b: dict[str, tuple[Bound, Bound]] = {}
+        if r.shape.detachment == "upper_triangle":
+            b["P3x"] = (Bound(x0, "P0x < P3x"), Bound(pplx, "P3x < Pplx"))
+            b["P4x"] = (Bound(x0, "P0x < P4x"), Bound(pplx, "P4x < Pplx"))
+            b["P5x"] = (Bound(md.ld, "ld < P5x"), Bound(pplx, "P5x < Pplx"))
+        b["P3z"] = (Bound(z0, "P0z < P3z"), Bound(pplz, "P3z < Pplz"))
+        b["P4z"] = (Bound(z0, "P0z < P4z"), Bound(pplz, "P4z < Pplz"))
+        b["P5z"] = (Bound(md.hd, "hd < P5z"), Bound(pplz, "P5z < Pplz"))
+        b["P10x"] = (Bound(max(lf, md.ld), "max(P5x, lf) < P10x"), Bound(pplx, "P10x < Pplx"))
+        b["P10z"] = (Bound(hs, "hs < P10z"), Bound(pplz, "P10z < Pplz"))
+        if r.shape.adhesion == "arc_from_right":
+            for p in ("P11", "P12"):
+                b[p + "x"] = (Bound(self.p15[0], f"P15x < {p}x"), Bound(pplx, f"{p}x < Pplx"))
+                b[p + "z"] = (Bound(self.p15[1], f"P15z < {p}z"), Bound(pplz, f"{p}z < Pplz"))
+        else:
+            floor = -r.shape.press_depth
+            for p in ("P11", "P12"):
+                b[p + "z"] = (Bound(floor, f"-press_depth < {p}z"), Bound(pplz, f"{p}z < Pplz"))
+        return b
+
+    def _free_box(self) -> tuple[Array, Array]:
+        bounds = self.variable_bounds()
+        where = f"robots.{self.name}"
+        if self.robot.shape.detachment == "vertical" and self.robot.min_detachment.ld != 0:
+            raise InfeasibleRobotError(
+                f"{where}.min_detachment.ld", "vertical detachment needs ld = 0 (P5x = P0x)"
+            )
+        for rule, lo, hi in self._landing_checks():
+            if not lo < hi:
+                raise InfeasibleRobotError(
+                    f"{where}.landing", f"{rule} cannot hold ({lo:.4g} >= {hi:.4g} m)"
+                )
+        for var, (lo, hi) in bounds.items():
+            if not lo.value < hi.value:
+                raise InfeasibleRobotError(
+                    where,
+                    f"{var} has no room: {lo.rule} and {hi.rule} need "
+                    f"{lo.value:.4g} < {hi.value:.4g} m",
+                )
+        lower = np.array([bounds[n][0].value for n in self.free_names])
+        upper = np.array([bounds[n][1].value for n in self.free_names])
+        return lower, upper
+
+    def _landing_checks(self) -> list[tuple[str, float, float]]:
+        """The landing point itself must lie inside the position limit box."""
+        pplx, pplz = self.limits.position
+        floor = -self.robot.shape.press_depth
+        return [
+            ("P0x < P15x < Pplx (landing beyond Ppl)", self.p15[0], pplx),
+            ("P15z < Pplz (landing beyond Ppl)", self.p15[1], pplz),
+            (
+                "-press_depth <= P15z (landing deeper than the press depth)",
+                floor,
+                self.p15[1] + 1e-12,
+            ),
+        ]
+
+    def _expansion(self) -> tuple[Array, Array]:
+        A = np.zeros((len(DECISION_NAMES), len(self.free_names)))
+        c = np.zeros(len(DECISION_NAMES))
+        free_col = {n: j for j, n in enumerate(self.free_names)}
+        for i, n in enumerate(DECISION_NAMES):
+            if n in self._fixed:
+                c[i] = self._fixed[n]
+            else:
+                A[i, free_col[self._follows.get(n, n)]] = 1.0
+        return A, c
+
+    def expand(self, free: Array) -> Array:
+        """Free variables (pop, k) -> full decision vectors (pop, 12) in the paper's order."""
+        return np.atleast_2d(free) @ self._expand_A.T + self._expand_c
+
+    def contract(self, X: Array) -> Array:
+        """Full decision vectors -> free variables (the tied copies must agree)."""
+        cols = [_COL[n] for n in self.free_names]
+        return np.atleast_2d(X)[:, cols]
+
+    @property
+    def n_free(self) -> int:
+        return len(self.free_names)
+
+    # --- trajectories -------------------------------------------------------------------------
+
+    def sample(self, X: Array, t: Array | None = None) -> Samples:
+        """Position/velocity/acceleration of full decision vectors on the check grid (or ``t``)."""
+        return evaluate(X, self.p0, self.p15, self.timing, self.t if t is None else t)
+
+    # --- constraints --------------------------------------------------------------------------
+
+    def _constraints(self) -> tuple[Constraint, ...]:
+        r = self.robot
+        out: list[Constraint] = []
+        kind_of = {
+            "P3": "shape",
+            "P4": "shape",
+            "P5": "transition",
+            "P10": "transition",
+            "P11": "shape",
+            "P12": "shape",
+        }
+        for var, (lo, hi) in self.variable_bounds().items():
+            lo_kind = "min_detachment" if lo.rule in ("ld < P5x", "hd < P5z") else kind_of[var[:-1]]
+            out.append(Constraint(lo_kind, lo.rule, _lower(var, lo.value)))
+            out.append(Constraint(kind_of[var[:-1]], hi.rule, _upper(var, hi.value)))
+        out += self._relational(r)
+        out += self._sampled()
+        return tuple(out)
+
+    def _relational(self, r: config.Robot) -> list[Constraint]:
+        lf, hs = r.foot.pad_length, r.foot.droop_height
+        out = [Constraint("transition", "P5x < P10x", lambda c: c["P5x"] - c["P10x"])]
+        if r.shape.complete_detachment == "peel":
+
+            def peel_height(c: _Context) -> Array:
+                arc = np.sqrt(np.maximum(0.0, lf**2 - (c["P10x"] - lf) ** 2))
+                return np.maximum(hs, arc) - c["P10z"]
+
+            out.append(
+                Constraint("transition", "max(hs, sqrt(lf^2 - (P10x - lf)^2)) < P10z", peel_height)
+            )
+        if r.shape.detachment == "upper_triangle":
+
+            def above_chord(p: str) -> Callable[[_Context], Array]:
+                def fn(c: _Context) -> Array:
+                    slope = (c["P5z"] - self.p0[1]) / np.maximum(c["P5x"] - self.p0[0], 1e-12)
+                    return self.p0[1] + (c[p + "x"] - self.p0[0]) * slope - c[p + "z"]
+
+                return fn
+
+            out += [
+                Constraint("shape", "P3x < P4x", lambda c: c["P3x"] - c["P4x"]),
+                Constraint("shape", "P4x < P5x", lambda c: c["P4x"] - c["P5x"]),
+                Constraint("shape", "P3z above chord P0-P5", above_chord("P3")),
+                Constraint("shape", "P4z above chord P0-P5", above_chord("P4")),
+                Constraint("shape", "P3z < P5z", lambda c: c["P3z"] - c["P5z"]),
+                Constraint("shape", "P4z < P5z", lambda c: c["P4z"] - c["P5z"]),
+            ]
+        else:
+            out += [
+                Constraint("shape", "P3z < P4z (vertical lift)", lambda c: c["P3z"] - c["P4z"]),
+                Constraint("shape", "P4z < P5z (vertical lift)", lambda c: c["P4z"] - c["P5z"]),
+            ]
+        return out
+
+    def _sampled(self) -> list[Constraint]:
+        pplx, pplz = self.limits.position
+        vplx, vplz = self.limits.velocity
+        tol = self.feasibility.position_tolerance
+        floor = np.where(self.t > self.timing.T2, -self.robot.shape.press_depth, self.p0[1])
+
+        def extreme(kind: str, reduce, sign: float, limit) -> Callable[[_Context], Array]:
+            get = (lambda c: c.samples.velocity) if kind == "v" else (lambda c: c.samples.position)
+            return lambda c: reduce(sign * get(c)) - limit
+
+        def axis(i: int):
+            return lambda A: np.max(A[..., i], axis=1)
+
+        def speed(i: int):
+            return lambda A: np.max(np.abs(A[..., i]), axis=1)
+
+        rules = [
+            ("position_limit", "trajectory x <= Pplx", extreme("p", axis(0), 1, pplx + tol)),
+            ("position_limit", "trajectory z <= Pplz", extreme("p", axis(1), 1, pplz + tol)),
+            ("position_limit", "trajectory x >= P0x", extreme("p", axis(0), -1, tol - self.p0[0])),
+            (
+                "position_limit",
+                "trajectory z >= wall (or -press_depth while adhering)",
+                lambda c: np.max(floor - c.samples.position[..., 1], axis=1) - tol,
+            ),
+            ("velocity_limit", "|vx| <= Vplx", extreme("v", speed(0), 1, vplx)),
+            ("velocity_limit", "|vz| <= Vplz", extreme("v", speed(1), 1, vplz)),
+            (
+                "bending",
+                "fs6 = 0",
+                lambda c: (
+                    fs6_bending(c.samples.position, self.feasibility.min_step)
+                    - self.feasibility.bend_tolerance
+                ),
+            ),
+        ]
+        return [Constraint(kind, name, fn, sampled=True) for kind, name, fn in rules]
+
+    def check(self, X: Array) -> FeasibilityReport:
+        """Every constraint on every row of ``X`` (pop, 12)."""
+        ctx = _Context(np.atleast_2d(np.asarray(X, dtype=float)), self.sample)
+        return self._report(np.column_stack([c.violation(ctx) for c in self.constraints]))
+
+    def screen(self, X: Array, chunk: int = 8192) -> FeasibilityReport:
+        """Like :meth:`check`, but the sampled-trajectory rules run only on rows that pass the
+        control-point rules (others get NaN there): cheap enough for millions of draws."""
+        X = np.atleast_2d(np.asarray(X, dtype=float))
+        ctx = _Context(X, self.sample)
+        cheap = [j for j, c in enumerate(self.constraints) if not c.sampled]
+        V = np.full((len(X), len(self.constraints)), np.nan)
+        V[:, cheap] = np.column_stack([self.constraints[j].violation(ctx) for j in cheap])
+        survivors = np.flatnonzero(~np.any(V[:, cheap] > 0, axis=1))
+        costly = [j for j, c in enumerate(self.constraints) if c.sampled]
+        for start in range(0, len(survivors), chunk):
+            rows = survivors[start : start + chunk]
+            sub = _Context(X[rows], self.sample)
+            V[np.ix_(rows, costly)] = np.column_stack(
+                [self.constraints[j].violation(sub) for j in costly]
+            )
+        return self._report(V)
+
+    def _report(self, V: Array) -> FeasibilityReport:
+        return FeasibilityReport(
+            tuple(c.name for c in self.constraints), tuple(c.kind for c in self.constraints), V
+        )
+
+
+def _lower(var: str, value: float) -> Callable[[_Context], Array]:
+    return lambda c: value - c[var]
+
+
+def _upper(var: str, value: float) -> Callable[[_Context], Array]:
+    return lambda c: c[var] - value

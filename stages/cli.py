@@ -1,0 +1,34 @@
+"""The `ftfof` command: one typer app, one sub-command per pipeline stage and tool."""
+
+from __future__ import annotations
+
+import os
+
+import typer
+
+from stages import sample
+from stages.runtime import tune_allocator
+
+os.environ.setdefault("MLFLOW_DISABLE_TELEMETRY", "true")
+os.environ.setdefault("DVC_NO_ANALYTICS", "true")
+
+app = typer.Typer(
+    name="ftfof",
+    help="Foot Trajectory and Force Optimization Framework: the pipeline's stages and tools.",
+    no_args_is_help=True,
+    pretty_exceptions_show_locals=False,
+    add_completion=False,
+)
+
+
+@app.callback()
+def _root() -> None:
+    """Run a stage by name; `dvc repro` runs them all in order (see dvc.yaml)."""
+
+
+app.command("sample")(sample.command)
+
+
+def main() -> None:
+    tune_allocator()
+    app(prog_name="ftfof")

@@ -1,0 +1,83 @@
+"""params.yaml validation: bad keys, types and values fail with one line naming the key."""
+
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from ftfof.errors import ParamsError
+from stages.cli import app
+from stages.params import load_params
+from tests.conftest import ROOT, write_params
+
+runner = CliRunner()
+
+
+def test_repository_params_validate():
+    params = load_params(ROOT / "params.yaml")
+    assert params.robot == "mst_m3f"
+    assert set(params.robots) >= {"mst_m3f", "mst_q"}
+
+
+def _error(tmp_path: Path, data: dict) -> str:
+    with pytest.raises(ParamsError) as err:
+        load_params(write_params(tmp_path / "params.yaml", data))
+    return str(err.value)
+
+
+def test_unknown_key_is_named(tmp_path, params_dict):
+    params_dict["robots"]["mst_m3f"]["foot"]["pad_lenght"] = 0.05
+    assert "robots.mst_m3f.foot.pad_lenght: unknown key" in _error(tmp_path, params_dict)
+
+
+def test_wrong_type_is_named(tmp_path, params_dict):
+    params_dict["sample"]["n"] = "many"
+    assert "sample.n: must be an integer (got 'many')" in _error(tmp_path, params_dict)
+
+
+def test_negative_length_is_named(tmp_path, params_dict):
+    params_dict["robots"]["mst_m3f"]["foot"]["pad_length"] = -0.05
+    msg = _error(tmp_path, params_dict)
+    assert "robots.mst_m3f.foot.pad_length: must be > 0 (got -0.05)" in msg
+
+
+def test_unknown_robot_is_named(tmp_path, params_dict):
+    params_dict["robot"] = "mst_x"
+    assert "robot: 'mst_x' is not a preset (have mst_m3f, mst_q)" in _error(tmp_path, params_dict)
+
+
+def test_unordered_timing_is_named(tmp_path, params_dict):
+    params_dict["robots"]["mst_q"]["timing"] = {"T1": 0.5, "T2": 0.4, "T3": 1.0}
+    assert "robots.mst_q.timing: must satisfy T1 < T2 < T3" in _error(tmp_path, params_dict)
+
+
+def test_unknown_leg_type_is_named(tmp_path, params_dict):
+    params_dict["robots"]["mst_q"]["leg"]["type"] = "hexapod"
+    assert "robots.mst_q.leg: unknown type 'hexapod'" in _error(tmp_path, params_dict)
+
+
+def test_invalid_yaml_names_the_line(tmp_path):
+    path = tmp_path / "params.yaml"
+    path.write_text("base:\n  seed: 1\nrobot: [unclosed\n")
+    with pytest.raises(ParamsError, match=r"params.yaml:\d+: not valid YAML"):
+        load_params(path)
+
+
+@pytest.mark.parametrize(
+    "edit",
+    [
+        lambda d: d["robots"]["mst_m3f"]["foot"].update(pad_lenght=0.05),
+        lambda d: d["sample"].update(n="many"),
+        lambda d: d["robots"]["mst_m3f"]["foot"].update(pad_length=-0.05),
+    ],
+    ids=["unknown-key", "wrong-type", "negative-length"],
+)
+def test_bad_params_exit_non_zero_with_one_line_and_no_output(tmp_path, params_dict, edit):
+    edit(params_dict)
+    path = write_params(tmp_path / "params.yaml", params_dict)
+    out = tmp_path / "traj.parquet"
+    result = runner.invoke(app, ["sample", "-p", str(path), "--out", str(out)])
+    assert result.exit_code == 2
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: ")
+    assert not out.exists()

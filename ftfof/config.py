@@ -134,6 +134,55 @@ class Shape(Strict):
     press_depth: NonNegative = 0.0  # how far the adhesion segment may go into the wall, m
 
 
+class XZ(Strict):
+    """A pair of values along x (the wall) and z (its normal)."""
+
+    x: Positive
+    z: Positive
+
+
+class FilmMechanics(Strict):
+    """The PET film with its adhesive layer, as the simulator's ANCF cable (DESIGN §6)."""
+
+    width: Positive  # b, m
+    bending_stiffness: Positive  # EI, N m^2 (PET: E b h^3 / 12)
+    axial_stiffness: Positive  # EA, N
+    mass_per_length: Positive  # kg/m, film + adhesive
+    bending_damping: NonNegative  # N m^2 s
+    axial_damping: NonNegative  # N s
+
+
+class FootMechanics(Strict):
+    """Rigid foot on a passive, spring-loaded ankle holding the film's near end."""
+
+    mass: Positive  # kg
+    inertia: Positive  # kg m^2 about the ankle
+    ankle_height: Positive  # ankle above the film, m
+    grip_length: Positive  # film length clamped under the foot, m
+    ankle_stiffness: Positive  # N m/rad
+    ankle_damping: NonNegative  # N m s/rad
+
+
+class BodyMechanics(Strict):
+    """Robot body on compliant mounts (the other feet on the wall) carrying the IMU."""
+
+    mass: Positive
+    mount_stiffness: XZ  # N/m
+    mount_damping: XZ  # N s/m
+
+
+class PlatformMechanics(Strict):
+    """How the robot's leg, foot and film behave on the acquisition platform."""
+
+    film: FilmMechanics
+    foot: FootMechanics
+    leg_stiffness: XZ  # lumped leg: servo and link compliance, N/m
+    leg_damping: XZ  # N s/m
+    body: BodyMechanics
+    joint_gains: tuple[Positive, Positive]  # joint-level leg: PD gains (N m/rad, N m s/rad)
+    link_mass: Positive  # joint-level leg: mass of each link, kg
+
+
 class Robot(Strict):
     """Everything that describes one robot's leg and foot for the pipeline."""
 
@@ -148,6 +197,7 @@ class Robot(Strict):
     shape: Shape
     objectives: Annotated[list[Objective], Field(min_length=2)]  # priority order for RHS
     pre_pressure: Positive  # a, N (FTFOF eq. 12)
+    platform: PlatformMechanics
 
     @model_validator(mode="after")
     def _objectives_unique(self) -> Robot:
@@ -156,6 +206,71 @@ class Robot(Strict):
         if "fs6" in self.objectives:
             raise ValueError("fs6 is the bending constraint, not an objective")
         return self
+
+
+class Surface(Strict):
+    """Adhesive and friction behaviour of one adhesion plate (DESIGN §6), per unit pad area."""
+
+    note: str  # where the numbers come from
+    strength: Positive  # sigma_max, Pa
+    fracture_energy: Positive  # G_c, J/m^2
+    shear_ratio: Positive  # shear strength / normal strength (equal critical separations)
+    rate_exponent: Positive  # n in R(v) = 1 + (v / v*)^n
+    rate_speed: Positive  # v*, m/s
+    preload_pressure: Positive  # p* in phi = 1 - exp(-p_max / p*), Pa
+    friction: NonNegative  # mu
+    contact_stiffness: Positive  # Pa/m (adhesive foam in compression)
+    restitution: Annotated[float, Field(gt=0, le=1)]  # Hunt-Crossley e
+    rebond_pressure: Positive  # contact pressure that re-forms a broken bond, Pa
+
+
+class Sensor(Strict):
+    """The 3-axis force sensor under the adhesion plate."""
+
+    plate_mass: Positive  # kg
+    stiffness: Positive  # N/m per axis
+    damping: NonNegative  # N s/m per axis
+    rate_hz: Positive  # acquisition rate
+    cutoff_hz: Positive  # the sensor's low-pass (2nd-order Butterworth, causal)
+    noise: NonNegative  # white noise standard deviation, N
+
+
+class Protocol(Strict):
+    """One acquisition: settle, press to a, run the trajectory, hold the landing (DESIGN §6)."""
+
+    settle: Positive  # s
+    press: Positive  # s, ramp to the pre-pressure
+    press_hold: Positive  # s
+    landing_hold: Positive  # s after the trajectory ends
+    switch_height: Positive  # photoelectric switch above the plate, m
+    carriage_time: Positive  # linear module move, s
+
+
+class Platform(Strict):
+    sensor: Sensor
+    protocol: Protocol
+
+
+class Solver(Strict):
+    """Exudyn settings (notes/exudyn.md): implicit generalised-alpha with step control."""
+
+    nodes: Annotated[int, Field(ge=4)] = 20  # bond elements along the film
+    step: Positive = 5e-4  # s, while bonds break or the pad lands
+    free_step: Positive = 2e-3  # s, elsewhere
+    tolerance: Positive = 1e-3  # Newton relative and absolute tolerance
+    spectral_radius: Annotated[float, Field(ge=0, le=1)] = 0.5
+    contact_smoothing: Positive = 1e-4  # m, width of the C1 contact ramp
+    time_budget: Positive = 60.0  # wall seconds per sample before it is stopped as failed
+
+
+class Acquire(Strict):
+    workers: Annotated[int, Field(ge=0)] = 0  # 0 = all cores
+    scheduler: str | None = None  # Dask scheduler address, e.g. tcp://127.0.0.1:8786
+    batch: Annotated[int, Field(ge=1)] = 8  # samples per task
+    max_failure_rate: Annotated[float, Field(ge=0, le=1)] = 0.05
+    leg_model: Literal["lumped", "joints"] = "lumped"
+    baselines: bool = True
+    solver: Solver = Solver()
 
 
 class Base(Strict):
@@ -201,18 +316,31 @@ class Params(Strict):
     base: Base
     robots: dict[str, Robot]
     robot: str
+    surfaces: dict[str, Surface]
+    surface: str
+    platform: Platform
     feasibility: Feasibility = Feasibility()
     baselines: Baselines
     sample: Sample
+    acquire: Acquire
 
     @field_validator("robot")
     @classmethod
     def _selected_exists(cls, name: str, info: ValidationInfo) -> str:
         return _preset_name(name, info.data.get("robots"))
 
+    @field_validator("surface")
+    @classmethod
+    def _surface_exists(cls, name: str, info: ValidationInfo) -> str:
+        return _preset_name(name, info.data.get("surfaces"))
+
     @property
     def selected_robot(self) -> Robot:
         return self.robots[self.robot]
+
+    @property
+    def selected_surface(self) -> Surface:
+        return self.surfaces[self.surface]
 
 
 def _preset_name(name: str, presets: dict | None) -> str:

@@ -6,7 +6,7 @@ import os
 
 import typer
 
-from stages import sample
+from stages import acquire, calibrate, sample, simulate
 from stages.runtime import tune_allocator
 
 os.environ.setdefault("MLFLOW_DISABLE_TELEMETRY", "true")
@@ -27,6 +27,9 @@ def _root() -> None:
 
 
 app.command("sample")(sample.command)
+app.command("acquire")(acquire.command)
+app.command("simulate")(simulate.command)
+app.command("calibrate")(calibrate.command)
 
 
 def main() -> None:

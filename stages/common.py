@@ -17,6 +17,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, ParamSpec, TypeVar
 
+import pyarrow as pa
 import typer
 from rich.console import Console
 from rich.progress import (
@@ -28,7 +29,7 @@ from rich.progress import (
     TimeRemainingColumn,
 )
 
-from ftfof.errors import FtfofError
+from ftfof.errors import DataError, FtfofError
 
 P = ParamSpec("P")
 R = TypeVar("R")
@@ -82,6 +83,28 @@ def _umask() -> int:
 def write_json(path: Path, data: Any) -> None:
     with atomic_path(path) as tmp:
         tmp.write_text(json.dumps(data, indent=2, sort_keys=True) + "\n")
+
+
+def read_table(path: Path, schema: pa.Schema, what: str) -> pa.Table:
+    """Read a Parquet file and conform it to ``schema``; any problem is one DataError line."""
+    import pyarrow.parquet as pq
+
+    from ftfof.data.schema import conform
+
+    if not path.exists():
+        raise DataError(str(path), f"{what} not found (run the stage that writes it first)")
+    try:
+        table = pq.read_table(path)
+    except (pa.ArrowException, OSError) as err:
+        raise DataError(str(path), f"unreadable {what} ({str(err).splitlines()[0]})") from None
+    return conform(table, schema, str(path))
+
+
+def write_parquet(path: Path, table: pa.Table) -> None:
+    import pyarrow.parquet as pq
+
+    with atomic_path(path) as tmp:
+        pq.write_table(table, tmp)
 
 
 def progress(description: str) -> Progress:

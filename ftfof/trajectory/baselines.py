@@ -20,6 +20,9 @@ from numpy.typing import NDArray
 
 from ftfof import config
 from ftfof.trajectory.bezier import Samples
+from ftfof.trajectory.piecewise import Sampled
+from ftfof.trajectory.policy import ConstraintPolicy
+from ftfof.trajectory.sampling import sample_feasible
 
 Array = NDArray[np.float64]
 BASELINE_NAMES = ("polynomial", "cycloidal", "random_bezier", "eps_bezier")
@@ -151,3 +154,33 @@ class EpsBezier:
         vel = d1 * dm[:, None] / T
         acc = (d2 * dm[:, None] ** 2 + d1 * ddm[:, None]) / T**2
         return Samples(np.asarray(t, dtype=float), pos[None], vel[None], acc[None])
+
+
+def common_trajectories(
+    policy: ConstraintPolicy, settings: config.Baselines, seed: int
+) -> dict[str, Sampled]:
+    """The four baselines of DESIGN §11 for a robot, from P0 to P15 in its total time T3.
+
+    The random Bezier is the first feasible draw of the robot's own sampler with its own seed
+    (``base.seed + random_seed_offset``), so it differs from every training sample's draw order.
+    """
+    T = policy.timing.T3
+    step = policy.p15 - policy.p0
+    X = sample_feasible(policy, 1, seed + settings.random_seed_offset).X[0]
+    return {
+        "polynomial": Polynomial(step, settings.lift_height, T),
+        "cycloidal": Cycloidal(step, settings.lift_height, T),
+        "random_bezier": BezierTrajectory(policy, X),
+        "eps_bezier": EpsBezier.clearing(policy.p0, policy.p15, settings.eps_bezier, T),
+    }
+
+
+@dataclass(frozen=True)
+class BezierTrajectory:
+    """A three-segment quintic Bezier of a robot, with the same interface as the baselines."""
+
+    policy: ConstraintPolicy
+    X: Array  # (12,)
+
+    def sample(self, t: Array) -> Samples:
+        return self.policy.sample(self.X[None], np.asarray(t, dtype=float))

@@ -22,9 +22,19 @@ from numpy.typing import NDArray
 from ftfof.config import Timing
 
 DECISION_NAMES: tuple[str, ...] = (
-    "P3x", "P4x", "P5x", "P10x", "P11x", "P12x",
-    "P3z", "P4z", "P5z", "P10z", "P11z", "P12z",
-)  # fmt: skip
+    "P3x",
+    "P4x",
+    "P5x",
+    "P10x",
+    "P11x",
+    "P12x",
+    "P3z",
+    "P4z",
+    "P5z",
+    "P10z",
+    "P11z",
+    "P12z",
+)
 FREE_POINTS = (3, 4, 5, 10, 11, 12)
 N_POINTS = 16
 DEGREE = 5

@@ -1,0 +1,67 @@
+"""Acquisition speed (issue 3 goals: <= 0.3 s per 1.5 s sample per core; 2-worker efficiency
+>= 85 %; 1000 samples in <= 3 min on 2 cores).
+
+Run: python bench/bench_acquire.py [n_samples]
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from ftfof.sim import pool
+from ftfof.sim.simulate import simulate
+from ftfof.sim.spec import Bench
+from ftfof.trajectory.sampling import sample_feasible
+from stages.params import load_params
+from stages.robot import robot_context
+from stages.runtime import tune_allocator
+
+
+def main(n: int) -> None:
+    tune_allocator()
+    root = Path(__file__).resolve().parents[1]
+    params = load_params(root / "params.yaml")
+    ctx = robot_context(params)
+    bench = Bench(
+        ctx.robot, params.selected_surface, params.platform, params.acquire, params.base.seed
+    )
+    X = sample_feasible(ctx.policy, n, seed=params.base.seed + 7).X
+    specs = [bench.bezier("sampled", i, x) for i, x in enumerate(X)]
+    simulate(specs[0])  # warm-up: imports, numba cache
+    one_core = []
+    for spec in specs:
+        start = time.perf_counter()
+        result = simulate(spec)
+        one_core.append(time.perf_counter() - start)
+        assert result.ok, result.error
+    sim_seconds = specs[0].end_time
+    per_sample = float(np.median(one_core))
+    rates = {}
+    for workers in (1, 2):
+        start = time.perf_counter()
+        results = pool.run_all(specs, workers=workers)
+        rates[workers] = len(results) / (time.perf_counter() - start)
+    radius = np.array([r.scalars["min_bend_radius"] for r in results])
+    limit = ctx.robot.foot.film_min_bend_radius
+    solver = params.acquire.solver
+    print(f"{n} sampled {ctx.name} trajectories, {sim_seconds:.2f} s simulated, N = {solver.nodes}")
+    print(f"one core, in process: median {per_sample:.3f} s/sample (max {np.max(one_core):.3f})")
+    print(f"pool, 1 worker:       {rates[1]:.2f} samples/s")
+    ratio = rates[2] / rates[1]
+    print(f"pool, 2 workers:      {rates[2]:.2f} samples/s, {ratio:.2f}x 1 worker, {ratio / 2:.0%}")
+    print(f"1000 samples on 2 workers: {1000 / rates[2] / 60:.1f} min (estimate)")
+    below = np.mean(radius < limit)
+    print(
+        f"film bent below {limit * 1e3:.0f} mm in {below:.0%} of samples "
+        f"(median smallest radius {np.median(radius) * 1e3:.1f} mm)"
+    )
+
+
+if __name__ == "__main__":
+    main(int(sys.argv[1]) if len(sys.argv) > 1 else 24)

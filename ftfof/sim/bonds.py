@@ -1,0 +1,227 @@
+"""The adhesive interface: one cohesive bond per film node (DESIGN §6).
+
+Force law (evaluated in C++ as a symbolic user function, see :mod:`ftfof.sim.model`), per node
+with opening u_n (film above plate), slip u_t from the bond's anchor and pad area A:
+
+- bonded: f = s K A (u_t * shear_ratio, u_n) — a linear spring through zero whose stiffness is
+  scaled by s = phi * R: the preload factor phi = 1 - exp(-p_max / p*) of the peak contact
+  pressure seen while bonded, and the rate factor R = max over the current loading of
+  1 + (v / v*)^n, v the local opening rate low-passed over RATE_FILTER seconds (so the snap of a
+  neighbour's release does not count as loading rate); a history variable, so Newton sees a
+  constant law within each step;
+- every node: unilateral contact with a C1 ramp of width w (stiffness rises 0 -> Kc A over w)
+  and Hunt-Crossley damping; broken nodes in contact get Coulomb friction mu * N (regularised).
+
+The bond is brittle and energy-consistent: K = sigma^2 / (2 G) and it breaks when the mixed-mode
+opening lambda = sqrt((max(u_n, 0)/d_c)^2 + (u_t/d_c)^2) reaches 1, d_c = 2 G / sigma, so the
+energy released per area is G and the peak traction sigma (both times s R). A broken node pressed
+above the re-bond pressure forms a new bond anchored where it lies.
+
+:func:`step` is the per-time-step state machine the simulator's pre-step calls: it reads node
+states, updates the bond state in place and lists the bonds whose connector parameters must be
+pushed. Compiled, it costs about a microsecond for 20 nodes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numba
+import numpy as np
+from numpy.typing import NDArray
+
+from ftfof import config
+
+Array = NDArray[np.float64]
+
+BREAK, SCALE, REBOND = 1, 2, 3
+PUSH_STEP = 0.02  # push a stiffness scale once it has grown by this fraction
+RATE_FILTER = 0.01  # s, time constant of the opening-rate low-pass
+LOADED = 0.05  # a bond counts as loaded (its rate history grows) above this opening lambda
+
+
+@dataclass(frozen=True)
+class BondLaw:
+    """The per-area constants of the law for one surface."""
+
+    critical_opening: float  # d_c = 2 G / sigma, m
+    stiffness: float  # K = sigma^2 / (2 G), Pa/m
+    shear_ratio: float
+    contact_stiffness: float  # Pa/m
+    contact_smoothing: float  # w, m
+    hunt_crossley: float  # 1.5 (1 - e) / v_ref, s/m
+    friction: float
+    friction_speed: float  # regularisation of Coulomb friction, m/s
+    rate_exponent: float
+    rate_speed: float
+    preload_pressure: float
+    rebond_pressure: float
+
+    @classmethod
+    def from_surface(cls, surface: config.Surface, smoothing: float) -> BondLaw:
+        sigma, G = surface.strength, surface.fracture_energy
+        return cls(
+            critical_opening=2 * G / sigma,
+            stiffness=sigma**2 / (2 * G),
+            shear_ratio=surface.shear_ratio,
+            contact_stiffness=surface.contact_stiffness,
+            contact_smoothing=smoothing,
+            hunt_crossley=1.5 * (1 - surface.restitution) / 0.1,
+            friction=surface.friction,
+            friction_speed=1e-3,
+            rate_exponent=surface.rate_exponent,
+            rate_speed=surface.rate_speed,
+            preload_pressure=surface.preload_pressure,
+            rebond_pressure=surface.rebond_pressure,
+        )
+
+    def preload_factor(self, pressure: Array | float) -> Array:
+        return 1.0 - np.exp(-np.asarray(pressure) / self.preload_pressure)
+
+    def contact_pressure(self, opening: Array, opening_rate: Array) -> Array:
+        """Contact pressure (>= 0) of the C1 ramp with Hunt-Crossley damping (numpy mirror)."""
+        return _contact_pressure(
+            np.asarray(opening, dtype=float),
+            np.asarray(opening_rate, dtype=float),
+            self.contact_stiffness,
+            self.contact_smoothing,
+            self.hunt_crossley,
+        )
+
+
+@numba.njit(cache=True)
+def _contact_pressure(u: Array, v: Array, kc: float, w: float, hc: float) -> Array:
+    out = np.empty_like(u)
+    for i in range(u.size):
+        pen = max(-u.flat[i], 0.0)
+        ramp = min(pen, w)
+        out.flat[i] = (
+            kc * (ramp * ramp / (2 * w) + max(pen - w, 0.0)) * max(1 - hc * v.flat[i], 0.0)
+        )
+    return out
+
+
+@dataclass
+class BondState:
+    """Mutable per-node state: anchors in the plate frame, broken flags, preload history."""
+
+    anchor: Array  # x of the bond point on the plate, m
+    broken: NDArray[np.bool_]
+    p_max: Array  # peak contact pressure while bonded, Pa
+    rate: Array  # rate factor history R of the current loading
+    scale: Array  # phi * R as last pushed to the connector
+    opening_rate: Array  # low-passed opening rate, m/s
+
+    @classmethod
+    def bonded(cls, x: Array, initial_pressure: float, law: BondLaw) -> BondState:
+        n = len(x)
+        p = np.full(n, initial_pressure)
+        return cls(
+            x.astype(float).copy(),
+            np.zeros(n, bool),
+            p,
+            np.ones(n),
+            law.preload_factor(p),
+            np.zeros(n),
+        )
+
+
+@numba.njit(cache=True)
+def step(
+    q: Array,
+    qd: Array,
+    node_index: NDArray[np.int64],
+    plate_index: int,
+    x_ref: Array,
+    area: Array,
+    anchor: Array,
+    broken: NDArray[np.bool_],
+    p_max: Array,
+    rate: Array,
+    scale: Array,
+    opening_rate: Array,
+    h: float,
+    law: tuple[float, ...],
+    push: NDArray[np.int64],
+    kind: NDArray[np.int64],
+) -> tuple[int, int, float, float, float]:  # pragma: no cover - compiled
+    """One pre-step update.
+
+    Returns (pushes, bonded count, lowest film height, max curvature, largest bond opening
+    lambda); the last tells the step control how close the next break is.
+    """
+    d_c, kc, w, hc, p_star, p_rebond, n_rate, v_star, push_step = law
+    n = node_index.size
+    n_push = 0
+    n_bonded = 0
+    lam_max = 0.0
+    lowest = np.inf
+    xp, zp = q[plate_index], q[plate_index + 1]
+    vzp = qd[plate_index + 1]
+    for i in range(n):
+        j = node_index[i]
+        x = x_ref[i] + q[j]
+        un = q[j + 1] - zp
+        vn = qd[j + 1] - vzp
+        lowest = min(lowest, un)
+        pen = max(-un, 0.0)
+        ramp = min(pen, w)
+        pressure = kc * (ramp * ramp / (2 * w) + max(pen - w, 0.0)) * max(1 - hc * vn, 0.0)
+        if not broken[i]:
+            ut = x - xp - anchor[i]
+            lam = np.sqrt((max(un, 0.0) / d_c) ** 2 + (ut / d_c) ** 2)
+            if lam >= 1.0:
+                broken[i] = True
+                push[n_push] = i
+                kind[n_push] = BREAK
+                n_push += 1
+                continue
+            n_bonded += 1
+            lam_max = max(lam_max, lam)
+            p_max[i] = max(p_max[i], pressure)
+            opening_rate[i] += (vn - opening_rate[i]) * min(h / RATE_FILTER, 1.0)
+            if lam > LOADED and opening_rate[i] > 0.0:
+                rate[i] = max(rate[i], 1.0 + (opening_rate[i] / v_star) ** n_rate)
+            target = (1.0 - np.exp(-p_max[i] / p_star)) * rate[i]
+            if target > scale[i] * (1.0 + push_step):
+                scale[i] = target
+                push[n_push] = i
+                kind[n_push] = SCALE
+                n_push += 1
+        elif pressure > p_rebond:
+            broken[i] = False
+            anchor[i] = x - xp
+            p_max[i] = pressure
+            rate[i] = 1.0
+            opening_rate[i] = 0.0
+            scale[i] = 1.0 - np.exp(-pressure / p_star)
+            push[n_push] = i
+            kind[n_push] = REBOND
+            n_push += 1
+            n_bonded += 1
+    # Film curvature from the ANCF node slopes: |d(angle)/ds| between neighbouring nodes.
+    kmax = 0.0
+    prev = np.arctan2(q[node_index[0] + 3], 1.0 + q[node_index[0] + 2])
+    for i in range(1, n):
+        j = node_index[i]
+        ang = np.arctan2(q[j + 3], 1.0 + q[j + 2])
+        d = ang - prev
+        d = (d + np.pi) % (2 * np.pi) - np.pi
+        kmax = max(kmax, abs(d) / (x_ref[i] - x_ref[i - 1]))
+        prev = ang
+    return n_push, n_bonded, lowest, kmax, lam_max
+
+
+def kernel_law(law: BondLaw, push_step: float = PUSH_STEP) -> tuple[float, ...]:
+    """The constants :func:`step` needs, in its order (area-independent)."""
+    return (
+        law.critical_opening,
+        law.contact_stiffness,
+        law.contact_smoothing,
+        law.hunt_crossley,
+        law.preload_pressure,
+        law.rebond_pressure,
+        law.rate_exponent,
+        law.rate_speed,
+        push_step,
+    )

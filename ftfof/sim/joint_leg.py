@@ -1,0 +1,129 @@
+"""Joint-level leg (``acquire.leg_model: joints``): an Exudyn KinematicTree driven by joint PD.
+
+Tree: two prismatic joints carry the robot body on its mounts (their PD gains *are* the mount
+stiffness and damping, the body mass sits on the second), then hip, knee and an ankle servo
+(RevoluteZ) tracking the inverse kinematics of the commanded foot motion, updated every step.
+The foot body hangs on the ankle link through a single marker (notes/exudyn.md: many tree
+markers are slow) with a rigid-body spring-damper whose rotational stiffness about z is the
+passive ankle. Planar (``planar3``) legs only. About 5-7x slower than the lumped leg: it exists
+to check the lumped model, not for bulk data.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import exudyn as exu
+import numpy as np
+from exudyn.itemInterface import (
+    MarkerKinematicTreeRigid,
+    MarkerNodeRigid,
+    NodeGenericODE2,
+    ObjectConnectorRigidBodySpringDamper,
+    ObjectKinematicTree,
+    SensorKinematicTree,
+)
+
+from ftfof import config
+from ftfof.errors import SimulationError
+from ftfof.kinematics.legs import build_leg
+
+ATTACH_STIFFNESS = 2e5  # N/m, foot-to-ankle-link attachment (stiff against the leg's compliance)
+ATTACH_DAMPING = 20.0
+SERVO_LINK_MASS = 0.005  # kg, the ankle servo's output flange
+
+
+def attach_joint_leg(p: Any, foot_node: Any, g0: Any) -> Any:
+    """Build the tree, attach the foot, register the per-step target update; returns the IMU."""
+    spec = p.spec
+    if not isinstance(spec.leg, config.PlanarLeg):
+        raise SimulationError(spec.key, "the joint-level leg model supports planar3 legs only")
+    mbs, mech = p.mbs, spec.mechanics
+    leg = build_leg(spec.leg)
+    l1, l2 = spec.leg.links
+    kp, kd = mech.joint_gains
+    body = mech.body
+    traj = spec.trajectory
+    t0 = spec.trajectory_start
+
+    def targets(t: float) -> tuple[np.ndarray, np.ndarray]:
+        s = traj.sample(np.array([t - t0]))
+        p_cmd = s.position[0, 0] - np.array([0.0, p.press_depth.Evaluate()])
+        theta = leg.inverse(p_cmd)
+        rates = np.linalg.lstsq(leg.jacobian(theta)[:, :2], s.velocity[0, 0], rcond=None)[0]
+        return theta, np.array([rates[0], rates[1], -rates[0] - rates[1]])
+
+    theta0, _ = targets(0.0)
+    if not np.all(np.isfinite(theta0)):
+        raise SimulationError(spec.key, "the start pose is outside the leg's reach")
+    n = 5
+    q0 = np.concatenate([[0.0, 0.0], theta0])
+    node = mbs.AddNode(
+        NodeGenericODE2(
+            numberOfODE2Coordinates=n,
+            referenceCoordinates=[0.0] * n,
+            initialCoordinates=q0.tolist(),
+            initialCoordinates_t=[0.0] * n,
+        )
+    )
+    eye = np.eye(3).tolist()
+    zero = [0.0, 0.0, 0.0]
+    inertia = (
+        [np.zeros((3, 3)).tolist()] * 2
+        + [(np.diag([0.0, 0.0, mech.link_mass * length**2 / 12]).tolist()) for length in (l1, l2)]
+        + [np.diag([0.0, 0.0, 1e-7]).tolist()]
+    )
+    tree = mbs.AddObject(
+        ObjectKinematicTree(
+            nodeNumber=node,
+            baseOffset=[spec.leg.hip.x, spec.leg.hip.z, 0.0],
+            jointTypes=[exu.JointType.PrismaticX, exu.JointType.PrismaticY]
+            + [exu.JointType.RevoluteZ] * 3,
+            linkParents=[-1, 0, 1, 2, 3],
+            jointTransformations=exu.Matrix3DList([np.array(eye)] * n),
+            jointOffsets=exu.Vector3DList([zero, zero, zero, [l1, 0.0, 0.0], [l2, 0.0, 0.0]]),
+            linkInertiasCOM=exu.Matrix3DList([np.array(m) for m in inertia]),
+            linkCOMs=exu.Vector3DList([zero, zero, [l1 / 2, 0.0, 0.0], [l2 / 2, 0.0, 0.0], zero]),
+            linkMasses=[1e-6, body.mass, mech.link_mass, mech.link_mass, SERVO_LINK_MASS],
+            jointPControlVector=[body.mount_stiffness.x, body.mount_stiffness.z, kp, kp, kp],
+            jointDControlVector=[body.mount_damping.x, body.mount_damping.z, kd, kd, kd],
+            jointPositionOffsetVector=q0.tolist(),
+            jointVelocityOffsetVector=[0.0] * n,
+        )
+    )
+    foot = mech.foot
+    k_attach = [ATTACH_STIFFNESS] * 3 + [0.0, 0.0, foot.ankle_stiffness]
+    d_attach = [ATTACH_DAMPING] * 3 + [0.0, 0.0, foot.ankle_damping]
+    mbs.AddObject(
+        ObjectConnectorRigidBodySpringDamper(
+            markerNumbers=[
+                mbs.AddMarker(
+                    MarkerKinematicTreeRigid(objectNumber=tree, linkNumber=4, localPosition=zero)
+                ),
+                mbs.AddMarker(MarkerNodeRigid(nodeNumber=foot_node)),
+            ],
+            stiffness=np.diag(k_attach).tolist(),
+            damping=np.diag(d_attach).tolist(),
+        )
+    )
+    offsets = np.zeros(n)
+    rates = np.zeros(n)
+
+    def update(t: float) -> None:
+        theta, dtheta = targets(t)
+        if np.all(np.isfinite(theta)):
+            offsets[2:] = theta
+            rates[2:] = dtheta
+        mbs.SetObjectParameter(tree, "jointPositionOffsetVector", offsets.tolist())
+        mbs.SetObjectParameter(tree, "jointVelocityOffsetVector", rates.tolist())
+
+    p.leg_update = update
+    return mbs.AddSensor(
+        SensorKinematicTree(
+            objectNumber=tree,
+            linkNumber=1,
+            outputVariableType=exu.OutputVariableType.Acceleration,
+            storeInternal=True,
+            writeToFile=False,
+        )
+    )

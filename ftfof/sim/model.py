@@ -1,0 +1,350 @@
+"""The force-acquisition platform as an Exudyn multibody system (DESIGN §6, FTFOF §IV.A).
+
+Planar: Exudyn x is along the wall, Exudyn y is our z (normal to the plate). Items:
+
+- adhesion plate: a point mass on two stiff spring-dampers, the 3-axis force sensor (x, z); the
+  x spring's offset is the carriage of the linear module, moved to the landing point once the
+  photoelectric switch sees the foot detached (a named symbolic variable holds the switch time);
+- robot body: a point mass on compliant mounts (the other feet on the wall) carrying the IMU;
+- lumped leg: x/z spring-dampers from the body to the ankle whose rest offset *is* the commanded
+  trajectory (a symbolic piecewise quintic, exact velocity for the damper) minus the press depth;
+- foot: a rigid body on a passive ankle spring, clamping the film's first ``grip_length`` (pinned
+  at every film node inside the grip);
+- film: ANCF cable elements (exact EI, EA) lying on the plate ahead of the foot, x in [0, lf];
+- one cohesive bond connector per film node (law in :mod:`ftfof.sim.bonds`), all sharing one
+  symbolic user function; their state lives in the connector parameters (stiffness =
+  [K A shear_ratio, K A, Kc A], damping = [broken, phi * R, 0], offset = [anchor, 0, 0]).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import exudyn as exu
+import numpy as np
+from exudyn.advancedUtilities import CreateSymbolicUserFunction
+from exudyn.itemInterface import (
+    CartesianSpringDamper,
+    CoordinateSpringDamper,
+    LoadMassProportional,
+    MarkerBodyMass,
+    MarkerBodyPosition,
+    MarkerNodeCoordinate,
+    MarkerNodePosition,
+    MassPoint2D,
+    NodePoint2D,
+    NodePoint2DSlope1,
+    NodePointGround,
+    NodeRigidBody2D,
+    ObjectANCFCable2D,
+    ObjectJointRevolute2D,
+    ObjectRigidBody2D,
+    SensorNode,
+    SensorObject,
+)
+
+from ftfof.sim.bonds import BondLaw
+from ftfof.sim.spec import SampleSpec
+
+esym = exu.symbolic
+GRAVITY = 9.81
+Real = esym.Real
+
+
+@dataclass
+class Platform:
+    """Handles into a built system that the solver loop and post-processing need."""
+
+    sc: Any
+    mbs: Any
+    spec: SampleSpec
+    law: BondLaw
+    x_ref: np.ndarray  # film node reference x
+    area: np.ndarray  # pad area per bond
+    film_nodes: list[Any]
+    bonds: list[Any]
+    plate_node: Any
+    foot_node: Any
+    sensors: dict[str, Any]
+    switch_time: Any  # esym named Real
+    press_depth: Any  # esym named Real
+    series_stiffness: float  # estimate of the press path stiffness, N/m
+    keep: list[Any] = field(default_factory=list)  # symbolic functions must outlive the solve
+    leg_update: Callable[[float], None] | None = None  # per-step joint targets (joint-level leg)
+
+    @property
+    def initial_pressure(self) -> float:
+        """The reset presses the whole pad with the pre-pressure spread over its area."""
+        return self.spec.pre_pressure / float(self.area.sum())
+
+
+def _coord(mbs: Any, node: Any, i: int) -> Any:
+    return mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=node, coordinate=i))
+
+
+def _uf(p: Platform, obj: Any, fn: Any) -> None:
+    sym = CreateSymbolicUserFunction(p.mbs, fn, "springForceUserFunction", obj)
+    p.keep.append(sym)
+    p.mbs.SetObjectParameter(obj, "springForceUserFunction", sym)
+
+
+def _min_jerk(u: Any) -> Any:
+    return u * u * u * (Real(10.0) - Real(15.0) * u + Real(6.0) * u * u)
+
+
+def _min_jerk_rate(u: Any) -> Any:
+    return Real(30.0) * u * u * (Real(1.0) - u) * (Real(1.0) - u)
+
+
+def build(spec: SampleSpec, law: BondLaw) -> Platform:
+    """Assemble the platform for one sample (not yet solved)."""
+    m = spec.mechanics
+    film, foot = m.film, m.foot
+    sensor = spec.platform.sensor
+    n = spec.solver.nodes
+    pad = spec.pad_length
+    sc = exu.SystemContainer()
+    mbs = sc.AddSystem()
+    x_ref = np.linspace(0.0, pad, n + 1)
+    dx = pad / n
+    area = np.full(n + 1, film.width * dx)
+    area[[0, -1]] /= 2
+    ground = mbs.AddNode(NodePointGround())
+    g0 = _coord(mbs, ground, 0)
+
+    # adhesion plate on the force sensor
+    plate = mbs.AddNode(NodePoint2D(referenceCoordinates=[0.0, 0.0]))
+    mbs.AddObject(MassPoint2D(nodeNumber=plate, mass=sensor.plate_mass))
+    sensor_x = mbs.AddObject(
+        CoordinateSpringDamper(
+            markerNumbers=[g0, _coord(mbs, plate, 0)],
+            stiffness=sensor.stiffness,
+            damping=sensor.damping,
+        )
+    )
+    sensor_z = mbs.AddObject(
+        CoordinateSpringDamper(
+            markerNumbers=[g0, _coord(mbs, plate, 1)],
+            stiffness=sensor.stiffness,
+            damping=sensor.damping,
+        )
+    )
+    plate_pos = mbs.AddMarker(MarkerNodePosition(nodeNumber=plate))
+
+    # foot on its passive ankle
+    ha = foot.ankle_height
+    foot_node = mbs.AddNode(NodeRigidBody2D(referenceCoordinates=[0.0, ha, 0.0]))
+    foot_body = mbs.AddObject(
+        ObjectRigidBody2D(nodeNumber=foot_node, mass=foot.mass, inertia=foot.inertia)
+    )
+    mbs.AddLoad(
+        LoadMassProportional(
+            markerNumber=mbs.AddMarker(MarkerBodyMass(bodyNumber=foot_body)),
+            loadVector=[0.0, -GRAVITY, 0.0],
+        )
+    )
+
+    # film (ANCF cable) lying on the plate ahead of the foot
+    film_nodes = [
+        mbs.AddNode(NodePoint2DSlope1(referenceCoordinates=[x, 0.0, 1.0, 0.0])) for x in x_ref
+    ]
+    elements = [
+        mbs.AddObject(
+            ObjectANCFCable2D(
+                nodeNumbers=[film_nodes[i], film_nodes[i + 1]],
+                length=dx,
+                massPerLength=film.mass_per_length,
+                bendingStiffness=film.bending_stiffness,
+                axialStiffness=film.axial_stiffness,
+                bendingDamping=film.bending_damping,
+                axialDamping=film.axial_damping,
+                useReducedOrderIntegration=1,
+            )
+        )
+        for i in range(n)
+    ]
+    for e in elements:
+        mbs.AddLoad(
+            LoadMassProportional(
+                markerNumber=mbs.AddMarker(MarkerBodyMass(bodyNumber=e)),
+                loadVector=[0.0, -GRAVITY, 0.0],
+            )
+        )
+    grip = min(foot.grip_length, pad)
+    clamped = np.union1d(x_ref[x_ref <= grip + 1e-12], [grip])  # the foot holds every grip node
+    for x in clamped:
+        e = min(int(x // dx + 1e-9), n - 1)
+        on_film = mbs.AddMarker(
+            MarkerBodyPosition(bodyNumber=elements[e], localPosition=[x - e * dx, 0.0, 0.0])
+        )
+        on_foot = mbs.AddMarker(
+            MarkerBodyPosition(bodyNumber=foot_body, localPosition=[x, -ha, 0.0])
+        )
+        mbs.AddObject(ObjectJointRevolute2D(markerNumbers=[on_foot, on_film]))
+
+    p = Platform(
+        sc=sc,
+        mbs=mbs,
+        spec=spec,
+        law=law,
+        x_ref=x_ref,
+        area=area,
+        film_nodes=film_nodes,
+        bonds=[],
+        plate_node=plate,
+        foot_node=foot_node,
+        sensors={},
+        switch_time=Real("t_switch", 1e9),
+        press_depth=Real("press_depth", 0.0),
+        series_stiffness=_series_stiffness(spec, law, area),
+    )
+    _carriage(p, sensor_x, spec)
+    if spec.leg_model == "joints":
+        from ftfof.sim.joint_leg import attach_joint_leg
+
+        body_acc = attach_joint_leg(p, foot_node, g0)
+    else:
+        body_acc = _lumped_leg(p, g0, foot_node)
+    _bonds(p, plate_pos)
+
+    store = {"storeInternal": True, "writeToFile": False}
+    force = exu.OutputVariableType.Force
+    p.sensors = {
+        "Fx": mbs.AddSensor(SensorObject(objectNumber=sensor_x, outputVariableType=force, **store)),
+        "Fz": mbs.AddSensor(SensorObject(objectNumber=sensor_z, outputVariableType=force, **store)),
+        "body_acc": body_acc,
+        "foot": mbs.AddSensor(
+            SensorNode(
+                nodeNumber=foot_node, outputVariableType=exu.OutputVariableType.Position, **store
+            )
+        ),
+    }
+    mbs.Assemble()
+    return p
+
+
+def _series_stiffness(spec: SampleSpec, law: BondLaw, area: np.ndarray) -> float:
+    """Stiffness of the press path leg -> foot -> grip contact -> sensor -> body mounts."""
+    m = spec.mechanics
+    grip = m.foot.grip_length * m.film.width
+    parts = (
+        m.leg_stiffness.z,
+        m.body.mount_stiffness.z,
+        spec.platform.sensor.stiffness,
+        law.contact_stiffness * grip,
+    )
+    return 1.0 / sum(1.0 / k for k in parts)
+
+
+def _carriage(p: Platform, sensor_x: Any, spec: SampleSpec) -> None:
+    """Sensor x spring whose ground point moves with the linear module after the switch."""
+    move = spec.landing[0]
+    dur = spec.platform.protocol.carriage_time
+    ts = p.switch_time
+
+    def sensor_force(mbs, t, itemNumber, u, v, k, d, offset):
+        s = esym.min(esym.max((t - ts) / dur, Real(0.0)), Real(1.0))
+        return k * (u - move * _min_jerk(s)) + d * (v - move * _min_jerk_rate(s) / dur)
+
+    _uf(p, sensor_x, sensor_force)
+
+
+def body_on_mounts(p: Platform, g0: Any) -> tuple[Any, Any, Any]:
+    """The robot body (IMU) as a point mass on its mount springs; returns (x, z) markers, sensor."""
+    mbs, body_m = p.mbs, p.spec.mechanics.body
+    hip = p.spec.leg.hip
+    body = mbs.AddNode(NodePoint2D(referenceCoordinates=[hip.x, hip.z]))
+    mbs.AddObject(MassPoint2D(nodeNumber=body, mass=body_m.mass))
+    bx, bz = _coord(mbs, body, 0), _coord(mbs, body, 1)
+    for marker, k, d in (
+        (bx, body_m.mount_stiffness.x, body_m.mount_damping.x),
+        (bz, body_m.mount_stiffness.z, body_m.mount_damping.z),
+    ):
+        mbs.AddObject(CoordinateSpringDamper(markerNumbers=[g0, marker], stiffness=k, damping=d))
+    sensor = mbs.AddSensor(
+        SensorNode(
+            nodeNumber=body,
+            outputVariableType=exu.OutputVariableType.Acceleration,
+            storeInternal=True,
+            writeToFile=False,
+        )
+    )
+    return bx, bz, sensor
+
+
+def _lumped_leg(p: Platform, g0: Any, foot_node: Any) -> Any:
+    """Leg springs whose rest offset is the commanded foot motion relative to the body."""
+    mbs, spec = p.mbs, p.spec
+    body_x, body_z, sensor = body_on_mounts(p, g0)
+    traj = spec.trajectory.shifted(spec.trajectory_start)
+    legs = (
+        (0, body_x, spec.mechanics.leg_stiffness.x, spec.mechanics.leg_damping.x),
+        (1, body_z, spec.mechanics.leg_stiffness.z, spec.mechanics.leg_damping.z),
+    )
+    for dim, body_marker, k, d in legs:
+        obj = mbs.AddObject(
+            CoordinateSpringDamper(
+                markerNumbers=[body_marker, _coord(mbs, foot_node, dim)], stiffness=k, damping=d
+            )
+        )
+        _uf(p, obj, _leg_force(traj, dim, p.press_depth if dim == 1 else Real(0.0)))
+    foot = spec.mechanics.foot
+    mbs.AddObject(  # passive ankle: the leg keeps its orientation, the foot rotates on a spring
+        CoordinateSpringDamper(
+            markerNumbers=[g0, _coord(mbs, foot_node, 2)],
+            stiffness=foot.ankle_stiffness,
+            damping=foot.ankle_damping,
+        )
+    )
+    return sensor
+
+
+def _leg_force(traj: Any, dim: int, press: Any) -> Any:
+    """Spring-damper force toward the commanded coordinate, with its exact velocity."""
+
+    def leg_force(mbs, t, itemNumber, u, v, k, d, offset):
+        target = traj.symbolic(t, esym, dim) - press
+        rate = traj.symbolic(t, esym, dim, 1)
+        return k * (u - target) + d * (v - rate)
+
+    return leg_force
+
+
+def _bonds(p: Platform, plate_marker: Any) -> None:
+    law, mbs = p.law, p.mbs
+    w, hc, mu, vf = law.contact_smoothing, law.hunt_crossley, law.friction, law.friction_speed
+
+    def bond_force(mbs, t, itemNumber, u, v, k, d, offset):
+        bonded = (Real(1.0) - d[0]) * d[1]
+        pen = esym.max(-u[1], Real(0.0))
+        ramp = esym.min(pen, Real(w))
+        contact = k[2] * (ramp * ramp / (2 * w) + esym.max(pen - w, Real(0.0)))
+        contact = contact * esym.max(Real(1.0) - hc * v[1], Real(0.0))
+        fn = bonded * k[1] * u[1] - contact
+        ft = bonded * k[0] * u[0] + d[0] * mu * contact * esym.tanh(v[0] / vf)
+        return [ft, fn, 0]
+
+    phi0 = float(law.preload_factor(p.initial_pressure))
+    shared = None
+    for i, node in enumerate(p.film_nodes):
+        kA = law.stiffness * p.area[i]
+        obj = mbs.AddObject(
+            CartesianSpringDamper(
+                markerNumbers=[plate_marker, mbs.AddMarker(MarkerNodePosition(nodeNumber=node))],
+                stiffness=[kA * law.shear_ratio, kA, law.contact_stiffness * p.area[i]],
+                damping=[0.0, phi0, 0.0],
+                offset=[p.x_ref[i], 0.0, 0.0],
+            )
+        )
+        if shared is None:
+            shared = CreateSymbolicUserFunction(
+                mbs,
+                bond_force,
+                "springForceUserFunction",
+                itemTypeName="ObjectConnectorCartesianSpringDamper",
+            )
+            p.keep.append(shared)
+        mbs.SetObjectParameter(obj, "springForceUserFunction", shared)
+        p.bonds.append(obj)

@@ -1,0 +1,308 @@
+"""Simulate one acquisition: build the platform, run the protocol, return uniform-rate channels.
+
+Protocol (DESIGN §6): settle, press the foot until the sensor reads the pre-pressure a (closed
+loop on the sensor, then frozen), run the trajectory, hold the landing with the same commanded
+press, stop. The solver takes ``solver.step`` while bonds break or the pad lands and
+``solver.free_step`` elsewhere. Any Exudyn error, a non-finite state, or a run stopped before its
+end (time budget) makes the sample ``failed`` with the message; partial channels are kept.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import exudyn as exu
+import numpy as np
+from numpy.typing import NDArray
+from scipy import signal
+
+from ftfof.sim import bonds
+from ftfof.sim.model import Platform, build
+from ftfof.sim.spec import SampleSpec
+
+Array = NDArray[np.float64]
+PRESS_TIME_CONSTANT = 0.01  # s, integral action of the pre-pressure loop
+LANDING_WINDOW = 0.003  # m: below this lowest-film height after detachment, take small steps
+PEEL_TAIL = 0.03  # s of small steps after the last bond breaks (release ringing, IMU peak)
+NEAR_BREAK = 0.3  # small steps while some bond's opening lambda exceeds this (breaks at 1)
+
+CHANNELS = (
+    "t",  # s, from the start of the trajectory
+    "x_cmd",  # commanded foot (ankle) x, m
+    "z_cmd",  # commanded foot z without the press, m
+    "x_foot",  # actual ankle x, m
+    "z_foot",  # actual ankle z above its rest height, m
+    "Fx",  # sensor tangential force on the plate, N
+    "Fz",  # sensor normal force, + = tension (detachment), N
+    "Fd",  # detachment force max(Fz, 0), N
+    "Fp",  # pre-pressure max(-Fz, 0), N (starts at the initial press a)
+    "body_acc",  # IMU acceleration magnitude, m/s^2
+    "bonds",  # intact bonds
+    "switch",  # photoelectric switch state (1 = foot detached)
+)
+
+
+@dataclass
+class SampleResult:
+    key: str
+    source: str
+    sample_id: int
+    status: str  # ok | failed
+    error: str
+    wall_time: float
+    channels: dict[str, Array]
+    scalars: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def ok(self) -> bool:
+        return self.status == "ok"
+
+
+class _Run:
+    """Per-solve state shared by the pre-step function (kept small: it runs every step)."""
+
+    def __init__(self, p: Platform, solver: exu.MainSolverImplicitSecondOrder):
+        s = p.spec
+        self.p, self.solver = p, solver
+        self.mbs = p.mbs
+        self.data = p.mbs.systemData
+        self.node_index = np.array(
+            [p.mbs.GetNodeODE2Index(n) for n in p.film_nodes], dtype=np.int64
+        )
+        self.plate_index = int(p.mbs.GetNodeODE2Index(p.plate_node))
+        self.state = bonds.BondState.bonded(p.x_ref, p.initial_pressure, p.law)
+        self.kernel_law = bonds.kernel_law(p.law)
+        self.push = np.zeros(len(p.film_nodes) * 2, dtype=np.int64)
+        self.kind = np.zeros_like(self.push)
+        self.t0 = s.trajectory_start
+        self.t_press_end = s.platform.protocol.settle + s.platform.protocol.press
+        self.t_land = self.t0 + s.trajectory.duration
+        self.press_integral = 0.0
+        self.switched_at = math.nan
+        self.last_break = -math.inf
+        self.bond_log: list[tuple[float, int]] = [(0.0, len(p.film_nodes))]
+        self.max_curvature = 0.0
+        self.mode = ""
+        self.deadline = time.perf_counter() + s.solver.time_budget
+        self.stop_reason = ""
+        self.steps = 0
+
+    def __call__(self, mbs, t: float) -> bool:
+        q = self.data.GetODE2Coordinates(copy=False)
+        qd = self.data.GetODE2Coordinates_t(copy=False)
+        st = self.state
+        n_push, n_bonded, lowest, kmax, lam_max = bonds.step(
+            q,
+            qd,
+            self.node_index,
+            self.plate_index,
+            self.p.x_ref,
+            self.p.area,
+            st.anchor,
+            st.broken,
+            st.p_max,
+            st.rate,
+            st.scale,
+            st.opening_rate,
+            self.solver.it.currentStepSize,
+            self.kernel_law,
+            self.push,
+            self.kind,
+        )
+        if n_push:
+            self._apply(n_push, t)
+            self.bond_log.append((t, n_bonded))
+        if t >= self.t0:
+            self.max_curvature = max(self.max_curvature, kmax)
+        if t <= self.t0:
+            self._press(t, q, qd)
+        if self.p.leg_update is not None:
+            self.p.leg_update(t)
+        if (
+            math.isnan(self.switched_at)
+            and n_bonded == 0
+            and lowest > self.p.spec.platform.protocol.switch_height
+        ):
+            self.switched_at = t
+            self.p.switch_time.SetValue(t)
+        self._control_step(t, lam_max, lowest)
+        self.steps += 1
+        if self.steps % 64 == 0:
+            if not np.isfinite(q).all():
+                self.stop_reason = f"non-finite state at t = {t:.4f} s"
+                return False
+            if time.perf_counter() > self.deadline:
+                self.stop_reason = (
+                    f"time budget of {self.p.spec.solver.time_budget} s exceeded at t = {t:.4f} s"
+                )
+                return False
+        return True
+
+    def _apply(self, n_push: int, t: float) -> None:
+        st, setp = self.state, self.mbs.SetObjectParameter
+        for j in range(n_push):
+            i, kind = int(self.push[j]), int(self.kind[j])
+            obj = self.p.bonds[i]
+            if kind == bonds.BREAK:
+                setp(obj, "damping", [1.0, float(st.scale[i]), 0.0])
+                self.last_break = t
+            else:
+                if kind == bonds.REBOND:
+                    setp(obj, "offset", [float(st.anchor[i]), 0.0, 0.0])
+                setp(obj, "damping", [0.0, float(st.scale[i]), 0.0])
+
+    def _press(self, t: float, q: Array, qd: Array) -> None:
+        """Integral control of the press depth so the sensor reads the pre-pressure a."""
+        spec = self.p.spec
+        proto = spec.platform.protocol
+        s = min(max((t - proto.settle) / proto.press, 0.0), 1.0)
+        target = spec.pre_pressure * s * s * s * (10 - 15 * s + 6 * s * s)
+        sensor = spec.platform.sensor
+        compression = -(
+            sensor.stiffness * q[self.plate_index + 1] + sensor.damping * qd[self.plate_index + 1]
+        )
+        k = self.p.series_stiffness
+        h = self.solver.it.currentStepSize
+        self.press_integral += (target - compression) / k * min(h / PRESS_TIME_CONSTANT, 1.0)
+        self.p.press_depth.SetValue(target / k + self.press_integral)
+
+    def _control_step(self, t: float, lam_max: float, lowest: float) -> None:
+        detaching = self.t0 <= t <= self.t_land and lam_max > NEAR_BREAK
+        landing = (
+            not math.isnan(self.switched_at) and lowest < LANDING_WINDOW and t < self.t_land + 0.05
+        )
+        small = detaching or landing or t < self.last_break + PEEL_TAIL
+        mode = "small" if small else "free"
+        solver = self.p.spec.solver
+        it = self.solver.it
+        if mode != self.mode:
+            self.mode = mode
+            it.currentStepSize = solver.step if small else solver.free_step
+        elif small and it.currentStepSize > solver.step:
+            it.currentStepSize = solver.step
+
+
+def _settings(spec: SampleSpec) -> exu.SimulationSettings:
+    s = exu.SimulationSettings()
+    sol = spec.solver
+    ti = s.timeIntegration
+    ti.endTime = spec.end_time
+    ti.numberOfSteps = math.ceil(spec.end_time / sol.free_step)
+    ti.newton.relativeTolerance = sol.tolerance
+    ti.newton.absoluteTolerance = sol.tolerance
+    ti.generalizedAlpha.spectralRadius = sol.spectral_radius
+    ti.adaptiveStep = True
+    ti.verboseMode = 0
+    s.linearSolver.solverType = exu.LinearSolverType.EigenSparse
+    s.solution.file.write = False
+    s.solution.sensors.writePeriod = 1.0 / spec.platform.sensor.rate_hz
+    s.show.computationTime = False
+    s.show.statistics = False
+    return s
+
+
+def simulate(spec: SampleSpec) -> SampleResult:
+    """Run one acquisition; never raises for a failing simulation (status = failed)."""
+    exu.config.printToConsole = False
+    started = time.perf_counter()
+    law = bonds.BondLaw.from_surface(spec.surface, spec.solver.contact_smoothing)
+    platform = build(spec, law)
+    solver = exu.MainSolverImplicitSecondOrder()
+    run = _Run(platform, solver)
+    platform.mbs.SetPreStepUserFunction(run)
+    error = ""
+    try:
+        solver.SolveSystem(platform.mbs, _settings(spec))
+    except exu.ExudynError as err:
+        lines = str(err).strip().splitlines()
+        error = f"{type(err).__name__}: {lines[-1] if lines else err}"
+    end = platform.mbs.systemData.GetTime()
+    if not error and run.stop_reason:
+        error = f"stopped early: {run.stop_reason}"
+    elif not error and end < spec.end_time - 1e-9:
+        error = f"stopped early at t = {end:.4f} s of {spec.end_time:.4f} s"
+    channels = _channels(platform, run)
+    if not error and not all(np.isfinite(c).all() for c in channels.values()):
+        error = "non-finite sensor values"
+    result = SampleResult(
+        spec.key,
+        spec.source,
+        spec.sample_id,
+        "failed" if error else "ok",
+        error,
+        time.perf_counter() - started,
+        channels,
+    )
+    result.scalars = summarize(result, run, spec)
+    return result
+
+
+def _channels(p: Platform, run: _Run) -> dict[str, Array]:
+    """Sensor data resampled to the acquisition rate, filtered like the real sensor."""
+    spec, mbs = p.spec, p.mbs
+    sensor = spec.platform.sensor
+    raw = {k: np.asarray(mbs.GetSensorStoredData(v)) for k, v in p.sensors.items()}
+    t_end = float(raw["Fz"][-1, 0]) if len(raw["Fz"]) else 0.0
+    t = np.arange(0.0, t_end + 1e-12, 1.0 / sensor.rate_hz)
+
+    def at(name: str, col: int) -> Array:
+        data = raw[name]
+        if len(data) == 0:
+            return np.zeros_like(t)
+        return np.interp(t, data[:, 0], data[:, col])
+
+    b, a = signal.butter(2, sensor.cutoff_hz / (sensor.rate_hz / 2))
+    rng = np.random.default_rng(spec.seed)
+
+    def measured(name: str) -> Array:
+        clean = signal.lfilter(b, a, at(name, 1))
+        return clean + rng.normal(0.0, sensor.noise, t.size) if sensor.noise > 0 else clean
+
+    fx, fz = measured("Fx"), measured("Fz")
+    tt = t - run.t0
+    cmd = spec.trajectory.sample(tt).position[0]
+    switch = (
+        (t >= run.switched_at) if not math.isnan(run.switched_at) else np.zeros_like(t, dtype=bool)
+    )
+    log = np.array(run.bond_log)
+    n_bonds = log[np.searchsorted(log[:, 0], t, side="right") - 1, 1]
+    acc = np.hypot(at("body_acc", 1), at("body_acc", 2))
+    ankle = spec.mechanics.foot.ankle_height
+    return {
+        "t": tt,
+        "x_cmd": cmd[:, 0],
+        "z_cmd": cmd[:, 1],
+        "x_foot": at("foot", 1),
+        "z_foot": at("foot", 2) - ankle,
+        "Fx": fx,
+        "Fz": fz,
+        "Fd": np.maximum(fz, 0.0),
+        "Fp": np.maximum(-fz, 0.0),
+        "body_acc": acc,
+        "bonds": n_bonds.astype(float),
+        "switch": switch.astype(float),
+    }
+
+
+def summarize(result: SampleResult, run: _Run, spec: SampleSpec) -> dict[str, float]:
+    """Per-sample figures: the Table I quantities and diagnostics."""
+    c = result.channels
+    t = c["t"]
+    during = t >= 0
+    before = (t > -spec.platform.protocol.press_hold) & (t <= 0)
+    film_limit = 1.0 / run.max_curvature if run.max_curvature > 0 else math.inf
+    return {
+        "peak_detachment": float(np.max(c["Fd"][during], initial=0.0)),
+        "peak_pre_pressure": float(np.max(c["Fp"][during], initial=0.0)),
+        "landing_pre_pressure": float(np.max(c["Fp"][c["switch"] > 0], initial=0.0)),
+        "initial_pre_pressure": float(np.mean(-c["Fz"][before])) if before.any() else math.nan,
+        "peak_body_acc": float(np.max(c["body_acc"][during], initial=0.0)),
+        "min_bend_radius": float(film_limit),
+        "switch_time": float(run.switched_at - run.t0)
+        if not math.isnan(run.switched_at)
+        else math.nan,
+        "bonds_at_end": float(c["bonds"][-1]) if len(c["bonds"]) else math.nan,
+        "steps": float(run.steps),
+    }

@@ -1,0 +1,65 @@
+"""Stage `acquire`: simulate every sampled trajectory and the baselines -> data/acquisition/.
+
+Results are written as they complete, one atomic Parquet part per finished batch under
+``data/acquisition/pending/``; a killed run re-run resumes from them (a manifest fingerprint of the
+inputs, params and code versions guards against mixing runs). When every sample is in, the parts
+are compacted into one canonical ``samples.parquet`` sorted by key, so the output does not depend
+on completion order.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from stages.common import ParamsOption, console, progress, stage, write_json
+
+OUT = Path("data/acquisition")
+TRAJECTORIES = Path("data/trajectories.parquet")
+METRICS = Path("reports/acquire.json")
+TIMING = Path("reports/acquire_timing.csv")
+
+
+@stage
+def command(
+    params_path: Annotated[Path, ParamsOption] = Path("params.yaml"),
+    trajectories: Annotated[Path, typer.Option(help="Sampled trajectories.")] = TRAJECTORIES,
+    out: Annotated[Path, typer.Option(help="Acquisition dataset directory.")] = OUT,
+    metrics: Annotated[Path, typer.Option(help="Summary metrics JSON.")] = METRICS,
+    timing: Annotated[Path, typer.Option(help="Per-sample wall times (CSV).")] = TIMING,
+    workers: Annotated[int | None, typer.Option(help="Override acquire.workers.")] = None,
+    scheduler: Annotated[str | None, typer.Option(help="Override acquire.scheduler.")] = None,
+    limit: Annotated[int | None, typer.Option(help="Only the first N sampled rows.")] = None,
+) -> None:
+    """Simulate the force-acquisition platform for every trajectory (resumable)."""
+    from stages.acquisition import FINAL, Acquisition
+
+    job = Acquisition.prepare(params_path, trajectories, out, limit)
+    cfg = job.params.acquire
+    n_workers = cfg.workers if workers is None else workers
+    address = cfg.scheduler if scheduler is None else scheduler
+    todo = job.remaining()
+    console.print(
+        f"acquire {job.ctx.name} on {job.params.surface}: {len(job.specs)} samples, "
+        f"{len(job.specs) - len(todo)} already done, {len(todo)} to simulate"
+        + (f" on {address}" if address else "")
+    )
+    started = time.perf_counter()
+    with progress("acquire") as bar:
+        task = bar.add_task(
+            "acquire", total=len(job.specs), completed=len(job.specs) - len(todo), info=""
+        )
+        done = 0
+        for results in job.run(todo, n_workers, address):
+            done += len(results)
+            rate = done / max(time.perf_counter() - started, 1e-9)
+            bar.update(task, advance=len(results), info=f"{rate:.2f} samples/s")
+    summary = job.finish(time.perf_counter() - started, len(todo), timing)
+    write_json(metrics, summary)
+    console.print(
+        f"{summary['ok']} ok, {summary['failed']} failed "
+        f"({summary['seconds_per_sample']:.3f} s/sample) -> {out / FINAL}"
+    )

@@ -1,0 +1,248 @@
+"""An acquisition job on disk: inputs, resumable pending parts, compaction and metrics.
+
+Shared by the `acquire` stage and by `evaluate` (which re-simulates the optimum and baselines).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import shutil
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pyarrow as pa
+import pyarrow.parquet as pq
+
+import ftfof
+from ftfof.config import Params
+from ftfof.data.acquisition import ACQUISITION, PENDING, to_table
+from ftfof.data.schema import TRAJECTORIES
+from ftfof.errors import DataError, SimulationError
+from ftfof.sim import pool
+from ftfof.sim.simulate import SampleResult
+from ftfof.sim.spec import Bench, SampleSpec
+from ftfof.trajectory.baselines import common_trajectories
+from ftfof.trajectory.bezier import DECISION_NAMES
+from stages.common import atomic_path, read_table, write_json, write_parquet
+from stages.params import load_params
+from stages.robot import RobotContext, robot_context
+
+FINAL = "samples.parquet"
+PENDING_DIR = "pending"
+MANIFEST = "manifest.json"
+
+
+@dataclass
+class Acquisition:
+    params: Params
+    ctx: RobotContext
+    out: Path
+    specs: list[SampleSpec]
+    controls: dict[str, np.ndarray]
+    key: str
+    written: list[str] = field(default_factory=list)
+
+    @classmethod
+    def prepare(
+        cls, params_path: Path, trajectories: Path, out: Path, limit: int | None = None
+    ) -> Acquisition:
+        params = load_params(params_path)
+        ctx = robot_context(params)
+        table = read_table(trajectories, TRAJECTORIES, "trajectory table")
+        robots = set(table.column("robot").to_pylist())
+        if robots and robots != {ctx.name}:
+            raise DataError(
+                str(trajectories),
+                f"holds trajectories of {sorted(robots)} but params select robot {ctx.name!r} "
+                "(re-run `ftfof sample`)",
+            )
+        if limit is not None:
+            table = table.slice(0, limit)
+        bench = Bench(
+            ctx.robot, params.selected_surface, params.platform, params.acquire, params.base.seed
+        )
+        X = np.column_stack([table.column(n).to_numpy() for n in DECISION_NAMES])
+        ids = table.column("sample_id").to_numpy()
+        specs = [bench.bezier("sampled", int(i), x) for i, x in zip(ids, X, strict=True)]
+        controls = {s.key: x for s, x in zip(specs, X, strict=True)}
+        if params.acquire.baselines:
+            for name, traj in common_trajectories(
+                ctx.policy, params.baselines, params.base.seed
+            ).items():
+                specs.append(bench.analytic(f"baseline:{name}", 0, traj))
+        key = fingerprint(
+            {
+                "robot": ctx.robot.model_dump(),
+                "surface": params.selected_surface.model_dump(),
+                "platform": params.platform.model_dump(),
+                "acquire": params.acquire.model_dump(exclude={"workers", "scheduler", "batch"}),
+                "baselines": params.baselines.model_dump(),
+                "seed": params.base.seed,
+                "trajectories": file_digest(trajectories),
+                "limit": limit,
+                "versions": versions(),
+            }
+        )
+        job = cls(params, ctx, out, specs, controls, key)
+        job._open()
+        return job
+
+    # --- the pending area -------------------------------------------------------------------
+
+    @property
+    def pending(self) -> Path:
+        return self.out / PENDING_DIR
+
+    def _parts(self) -> list[Path]:
+        return sorted(self.pending.glob("part-*.parquet"))
+
+    def _open(self) -> None:
+        """Resume only an interrupted run of the same inputs; anything else starts afresh.
+
+        A finished run leaves no pending parts, so a re-run (``dvc repro --force``) recomputes.
+        """
+        manifest = self.out / MANIFEST
+        current = json.loads(manifest.read_text()).get("fingerprint") if manifest.exists() else None
+        if current != self.key or not self._parts():
+            if self.out.exists():
+                shutil.rmtree(self.out)
+            self.pending.mkdir(parents=True)
+            write_json(manifest, {"fingerprint": self.key, "versions": versions()})
+
+    def done_keys(self) -> set[str]:
+        keys: set[str] = set()
+        for part in self._parts():
+            keys.update(pq.read_table(part, columns=["key"]).column("key").to_pylist())
+        return keys
+
+    def remaining(self) -> list[SampleSpec]:
+        done = self.done_keys()
+        return [s for s in self.specs if s.key not in done]
+
+    def run(
+        self, todo: Sequence[SampleSpec], workers: int, address: str | None
+    ) -> Iterator[list[SampleResult]]:
+        """Simulate ``todo`` and persist each finished batch before yielding it."""
+        cfg = self.params.acquire
+        for results in pool.run(todo, workers, cfg.batch, address):
+            self._write_part(results)
+            yield results
+
+    def _write_part(self, results: Sequence[SampleResult]) -> None:
+        table = self._table(results)
+        name = hashlib.sha256("|".join(sorted(r.key for r in results)).encode()).hexdigest()[:16]
+        write_parquet(self.pending / f"part-{name}.parquet", table)
+
+    def _table(self, results: Sequence[SampleResult]) -> pa.Table:
+        return to_table(
+            results,
+            self.ctx.name,
+            self.params.surface,
+            self.controls,
+            self.ctx.robot.timing.T3,
+        )
+
+    # --- completion ---------------------------------------------------------------------------
+
+    def collect(self) -> pa.Table:
+        parts = [pq.read_table(p) for p in self._parts()]
+        table = pa.concat_tables(parts).cast(PENDING) if parts else PENDING.empty_table()
+        wanted = {s.key for s in self.specs}
+        mask = pa.compute.is_in(table.column("key"), pa.array(sorted(wanted)))
+        table = table.filter(mask)
+        order = np.argsort(np.array(table.column("key").to_pylist(), dtype=object), kind="stable")
+        return table.take(pa.array(order))
+
+    def finish(self, wall: float, simulated: int, timing: Path | None = None) -> dict[str, object]:
+        table = self.collect()
+        keys = table.column("key").to_pylist()
+        if len(set(keys)) != len(keys) or len(keys) != len(self.specs):
+            raise SimulationError(
+                str(self.out),
+                f"expected {len(self.specs)} distinct samples, found {len(set(keys))}",
+            )
+        status = np.array(table.column("status").to_pylist())
+        failed = int(np.sum(status != "ok"))
+        rate = failed / max(len(keys), 1)
+        summary = summarize(table, self.ctx.robot.foot.film_min_bend_radius, wall, simulated)
+        if rate > self.params.acquire.max_failure_rate:
+            errors = [e for e in table.column("error").to_pylist() if e][:3]
+            raise SimulationError(
+                "acquire",
+                f"{failed} of {len(keys)} samples failed ({rate:.1%} > acquire.max_failure_rate "
+                f"{self.params.acquire.max_failure_rate:.1%}); first errors: {errors}",
+            )
+        if timing is not None:
+            with atomic_path(timing) as tmp:
+                table.select(["key", "status", "wall_time"]).to_pandas().to_csv(tmp, index=False)
+        write_parquet(self.out / FINAL, table.drop_columns(["wall_time"]).cast(ACQUISITION))
+        shutil.rmtree(self.pending)
+        return summary
+
+
+def summarize(table: pa.Table, bend_limit: float, wall: float, simulated: int) -> dict[str, object]:
+    df = table.select(
+        [
+            "source",
+            "status",
+            "wall_time",
+            "peak_detachment",
+            "peak_pre_pressure",
+            "landing_pre_pressure",
+            "peak_body_acc",
+            "min_bend_radius",
+        ]
+    ).to_pandas()
+    ok = df[df.status == "ok"]
+    sampled = ok[ok.source == "sampled"]
+
+    def stats(col: str) -> dict[str, float]:
+        v = sampled[col].to_numpy()
+        if not len(v):
+            return {}
+        return {
+            k: round(float(f(v)), 4)
+            for k, f in (("mean", np.mean), ("std", np.std), ("min", np.min), ("max", np.max))
+        }
+
+    baselines = {
+        row.source.removeprefix("baseline:"): {
+            "peak_detachment": round(float(row.peak_detachment), 4),
+            "peak_pre_pressure": round(float(row.peak_pre_pressure), 4),
+            "peak_body_acc": round(float(row.peak_body_acc), 4),
+        }
+        for row in ok[ok.source.str.startswith("baseline:")].itertuples()
+    }
+    return {
+        "samples": len(df),
+        "ok": len(ok),
+        "failed": int(len(df) - len(ok)),
+        "failure_rate": round(float((len(df) - len(ok)) / max(len(df), 1)), 4),
+        "seconds_per_sample": round(float(df.wall_time.mean()), 4),
+        "simulated_now": simulated,
+        "wall_seconds": round(wall, 2),
+        "peak_detachment": stats("peak_detachment"),
+        "peak_pre_pressure": stats("peak_pre_pressure"),
+        "peak_body_acc": stats("peak_body_acc"),
+        "film_below_min_bend_radius": round(float(np.mean(sampled.min_bend_radius < bend_limit)), 4)
+        if len(sampled)
+        else None,
+        "baselines": baselines,
+    }
+
+
+def fingerprint(parts: dict[str, object]) -> str:
+    return hashlib.sha256(json.dumps(parts, sort_keys=True, default=str).encode()).hexdigest()
+
+
+def file_digest(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def versions() -> dict[str, str]:
+    import exudyn
+
+    return {"ftfof": ftfof.__version__, "exudyn": exudyn.__version__}

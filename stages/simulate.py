@@ -1,0 +1,112 @@
+"""`ftfof simulate`: one trajectory on the simulated platform -> CSV of channels and a PNG."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING, Annotated
+
+import typer
+
+from stages.common import ParamsOption, atomic_path, console, stage
+
+if TYPE_CHECKING:
+    import numpy as np
+
+OUT_DIR = Path("reports/simulate")
+
+
+@stage
+def command(
+    params_path: Annotated[Path, ParamsOption] = Path("params.yaml"),
+    points: Annotated[
+        str | None,
+        typer.Option(help="12 control values P3x..P12x, P3z..P12z, comma-separated."),
+    ] = None,
+    unit: Annotated[str, typer.Option(help="Unit of --points: m or mm.")] = "m",
+    row: Annotated[int | None, typer.Option(help="A row of --trajectories.")] = None,
+    trajectories: Annotated[Path, typer.Option(help="Table for --row.")] = Path(
+        "data/trajectories.parquet"
+    ),
+    baseline: Annotated[
+        str | None, typer.Option(help="polynomial | cycloidal | random_bezier | eps_bezier.")
+    ] = None,
+    out_dir: Annotated[Path, typer.Option(help="Where the CSV and PNG go.")] = OUT_DIR,
+) -> None:
+    """Simulate one trajectory (control points, a sampled row, or a baseline) and plot it."""
+    import numpy as np
+
+    from ftfof.data.schema import TRAJECTORIES
+    from ftfof.errors import ParamsError
+    from ftfof.report.figures import sample_figure
+    from ftfof.sim.simulate import CHANNELS, simulate
+    from ftfof.sim.spec import Bench
+    from ftfof.trajectory.baselines import BASELINE_NAMES, common_trajectories
+    from ftfof.trajectory.bezier import DECISION_NAMES
+    from stages.common import read_table
+    from stages.params import load_params
+    from stages.robot import robot_context
+
+    chosen = [x is not None for x in (points, row, baseline)]
+    if sum(chosen) != 1:
+        raise ParamsError("simulate", "give exactly one of --points, --row, --baseline")
+    params = load_params(params_path)
+    ctx = robot_context(params)
+    bench = Bench(
+        ctx.robot, params.selected_surface, params.platform, params.acquire, params.base.seed
+    )
+    if baseline is not None:
+        if baseline not in BASELINE_NAMES:
+            raise ParamsError(
+                "--baseline", f"unknown baseline {baseline!r} (have {', '.join(BASELINE_NAMES)})"
+            )
+        traj = common_trajectories(ctx.policy, params.baselines, params.base.seed)[baseline]
+        spec, name = bench.analytic(f"baseline:{baseline}", 0, traj), baseline
+    else:
+        if points is not None:
+            X = _parse_points(points, unit)
+            name = "points"
+        else:
+            table = read_table(trajectories, TRAJECTORIES, "trajectory table")
+            if not 0 <= row < table.num_rows:
+                raise ParamsError("--row", f"{row} is outside 0..{table.num_rows - 1}")
+            X = np.array([table.column(n)[row].as_py() for n in DECISION_NAMES])
+            name = f"row{row}"
+        report = ctx.policy.check(X)
+        if not report.feasible[0]:
+            console.print(f"[yellow]note: infeasible for {ctx.name}: {'; '.join(report.failed(0))}")
+        spec = bench.bezier("sampled", row or 0, X)
+    result = simulate(spec)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    csv = out_dir / f"{name}.csv"
+    with atomic_path(csv) as tmp:
+        data = np.column_stack([result.channels[c] for c in CHANNELS])
+        np.savetxt(tmp, data, delimiter=",", header=",".join(CHANNELS), comments="", fmt="%.7g")
+    png = out_dir / f"{name}.png"
+    fig = sample_figure(
+        result.channels, f"{ctx.name} on {params.surface}: {name} ({result.status})"
+    )
+    with atomic_path(png) as tmp:
+        fig.savefig(tmp, format="png", dpi=110)
+    status = "ok" if result.ok else f"FAILED: {result.error}"
+    console.print(f"{name}: {status} in {result.wall_time:.2f} s -> {csv}, {png}")
+    for key, value in result.scalars.items():
+        console.print(f"  {key:22s} {value:10.4f}")
+    if not result.ok:
+        raise typer.Exit(1)
+
+
+def _parse_points(text: str, unit: str) -> np.ndarray:
+    import numpy as np
+
+    from ftfof.errors import ParamsError
+
+    scale = {"m": 1.0, "mm": 1e-3}.get(unit)
+    if scale is None:
+        raise ParamsError("--unit", f"must be m or mm (got {unit!r})")
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        raise ParamsError("--points", "must be 12 comma-separated numbers") from None
+    if len(values) != 12:
+        raise ParamsError("--points", f"needs 12 values P3x..P12z (got {len(values)})")
+    return np.array(values) * scale

@@ -1,0 +1,64 @@
+"""Building simulation specs for tests: presets with a few values changed, simple motions."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ftfof.config import Params
+from ftfof.sim.spec import Bench, SampleSpec
+from ftfof.trajectory.bezier import Samples
+from ftfof.trajectory.piecewise import PiecewiseQuintic
+
+PUBLISHED = (
+    np.array([2.3, 18.3, 31.4, 108.8, 123.7, 124.5, 23.6, 25.5, 29.0, 48.6, 30.5, 11.1]) / 1000
+)
+
+
+def bench(
+    params: Params,
+    surface: dict | None = None,
+    foot: dict | None = None,
+    robot: dict | None = None,
+    solver: dict | None = None,
+    leg_model: str = "lumped",
+) -> Bench:
+    r = params.selected_robot
+    mech = r.platform.model_copy(update={"foot": r.platform.foot.model_copy(update=foot or {})})
+    r = r.model_copy(update={"platform": mech, **(robot or {})})
+    acquire = params.acquire.model_copy(
+        update={
+            "solver": params.acquire.solver.model_copy(update=solver or {}),
+            "leg_model": leg_model,
+        }
+    )
+    s = params.selected_surface.model_copy(update=surface or {})
+    return Bench(r, s, params.platform, acquire, params.base.seed)
+
+
+def waypoints(
+    t: list[float], p: list[tuple[float, float]], v: list[tuple[float, float]]
+) -> PiecewiseQuintic:
+    """A piecewise quintic through positions and velocities at times (zero accelerations)."""
+    pos = np.array(p, dtype=float)[None]
+    vel = np.array(v, dtype=float)[None]
+    return PiecewiseQuintic.from_samples(
+        Samples(np.array(t, dtype=float), pos, vel, np.zeros_like(pos))
+    )
+
+
+def straight_pull(
+    angle_deg: float, speed: float, duration: float, ramp: float = 0.05
+) -> PiecewiseQuintic:
+    """At rest, then up to ``speed`` along ``angle_deg`` (from +x) over ``ramp``, then steady."""
+    d = np.array([np.cos(np.radians(angle_deg)), np.sin(np.radians(angle_deg))])
+    t = [0.0, ramp, duration]
+    s_ramp = speed * ramp / 2
+    return waypoints(
+        t,
+        [(0, 0), tuple(d * s_ramp), tuple(d * (s_ramp + speed * (duration - ramp)))],
+        [(0, 0), tuple(d * speed), tuple(d * speed)],
+    )
+
+
+def with_trajectory(b: Bench, traj: PiecewiseQuintic, key: str = "test") -> SampleSpec:
+    return b.spec(key, 0, traj)

@@ -1,0 +1,136 @@
+"""The cohesive bond law and its per-step state machine, without the simulator."""
+
+import numpy as np
+import pytest
+
+from ftfof.sim import bonds
+from ftfof.sim.bonds import BondLaw, BondState
+
+
+@pytest.fixture
+def law(params):
+    return BondLaw.from_surface(params.selected_surface, 1e-4)
+
+
+def test_brittle_law_releases_exactly_the_fracture_energy(law, params):
+    s = params.selected_surface
+    assert law.stiffness * law.critical_opening == pytest.approx(s.strength)  # peak traction
+    assert 0.5 * law.stiffness * law.critical_opening**2 == pytest.approx(s.fracture_energy)
+
+
+def test_contact_ramp_is_c1_and_zero_when_apart(law):
+    w = law.contact_smoothing
+    u = np.array([1e-3, 0.0, -w / 2, -w, -2 * w])
+    p = law.contact_pressure(u, np.zeros_like(u))
+    assert p[0] == 0 and p[1] == 0
+    assert p[3] == pytest.approx(law.contact_stiffness * w / 2)
+    # slope continuous at the end of the ramp: Kc on both sides
+    eps = 1e-9
+    left = law.contact_pressure(np.array([-w + eps, -w - eps]), np.zeros(2))
+    assert (left[1] - left[0]) / (2 * eps) == pytest.approx(law.contact_stiffness, rel=1e-3)
+
+
+class Film:
+    """A fake state vector: plate node (x, z) then film nodes (x, z, slope_x, slope_y)."""
+
+    def __init__(self, n: int):
+        self.q = np.zeros(2 + 4 * n)
+        self.qd = np.zeros_like(self.q)
+        self.node_index = 2 + 4 * np.arange(n, dtype=np.int64)
+        self.x = np.linspace(0.0, 0.05, n)
+        self.area = np.full(n, 1e-4)
+
+    def step(self, state: BondState, law: BondLaw, h: float = 5e-4):
+        push = np.zeros(2 * len(self.x), dtype=np.int64)
+        kind = np.zeros_like(push)
+        out = bonds.step(
+            self.q,
+            self.qd,
+            self.node_index,
+            0,
+            self.x,
+            self.area,
+            state.anchor,
+            state.broken,
+            state.p_max,
+            state.rate,
+            state.scale,
+            state.opening_rate,
+            h,
+            bonds.kernel_law(law),
+            push,
+            kind,
+        )
+        n = out[0]
+        return out, list(zip(push[:n].tolist(), kind[:n].tolist(), strict=True))
+
+
+def test_opening_past_the_critical_separation_breaks_and_reports_it(law):
+    film = Film(3)
+    state = BondState.bonded(film.x, 5000.0, law)
+    film.q[film.node_index[1] + 1] = 1.01 * law.critical_opening
+    (_, n_bonded, lowest, _, lam), pushes = film.step(state, law)
+    assert pushes == [(1, bonds.BREAK)]
+    assert state.broken.tolist() == [False, True, False]
+    assert n_bonded == 2 and lowest == pytest.approx(0.0)
+    assert lam == pytest.approx(0.0)  # the remaining bonds are unloaded
+
+
+def test_mixed_mode_criterion_combines_opening_and_slip(law):
+    film = Film(1)
+    state = BondState.bonded(film.x, 5000.0, law)
+    d = law.critical_opening
+    film.q[film.node_index[0]] = 0.75 * d  # slip
+    film.q[film.node_index[0] + 1] = 0.75 * d  # opening: lambda = 1.06
+    _, pushes = film.step(state, law)
+    assert pushes == [(0, bonds.BREAK)]
+
+
+def test_broken_node_pressed_hard_rebonds_where_it_lies(law):
+    film = Film(2)
+    state = BondState.bonded(film.x, 5000.0, law)
+    state.broken[:] = True
+    film.q[film.node_index[0]] = 0.003  # moved 3 mm along x
+    film.q[film.node_index[0] + 1] = -3 * law.contact_smoothing  # pressed in
+    _, pushes = film.step(state, law)
+    assert pushes == [(0, bonds.REBOND)]
+    assert not state.broken[0] and state.broken[1]
+    assert state.anchor[0] == pytest.approx(film.x[0] + 0.003)
+    assert state.scale[0] == pytest.approx(float(law.preload_factor(state.p_max[0])))
+
+
+def test_preload_raises_the_bond_scale_and_saturates(law):
+    film = Film(1)
+    state = BondState.bonded(film.x, 0.0, law)
+    scales = []
+    for depth in (1, 2, 5, 20, 200):
+        film.q[film.node_index[0] + 1] = -depth * law.contact_smoothing
+        film.step(state, law)
+        scales.append(state.scale[0])
+    assert scales == sorted(scales)
+    assert scales[-1] <= 1.0 and scales[-1] - scales[-2] < scales[1] - scales[0]
+
+
+def test_opening_rate_raises_the_scale_of_a_loaded_bond(law):
+    film = Film(1)
+    state = BondState.bonded(film.x, 1e6, law)
+    before = state.scale[0]
+    film.q[film.node_index[0] + 1] = 0.5 * law.critical_opening
+    film.qd[film.node_index[0] + 1] = 0.5  # m/s opening
+    for _ in range(100):
+        film.step(state, law)
+    assert state.rate[0] > 1.5
+    assert state.scale[0] > before * 1.5
+
+
+def test_curvature_of_a_bent_film(law):
+    film = Film(5)
+    state = BondState.bonded(film.x, 5000.0, law)
+    radius = 0.02
+    s = film.x
+    angle = s / radius
+    for i, a in enumerate(angle):  # slope vector (cos a, sin a) stored as displacement from (1, 0)
+        film.q[film.node_index[i] + 2] = np.cos(a) - 1
+        film.q[film.node_index[i] + 3] = np.sin(a)
+    (_, _, _, kmax, _), _ = film.step(state, law)
+    assert 1 / kmax == pytest.approx(radius, rel=1e-6)

@@ -273,6 +273,59 @@ class Acquire(Strict):
     solver: Solver = Solver()
 
 
+class Dataset(Strict):
+    """How acquisitions become fixed-length training sequences (DESIGN §7)."""
+
+    seq_len: Annotated[int, Field(ge=8)] = 128
+    hold: NonNegative = 0.1  # s of the landing hold after T3 kept in each sequence
+    validation_fraction: Annotated[float, Field(gt=0, lt=1)] = 0.15
+    split_seed_offset: Annotated[int, Field(ge=0)] = 2
+    plot_samples: Annotated[int, Field(ge=1)] = 4
+
+
+class Train(Strict):
+    """GRU surrogates trained with DILATE and, for comparison, MSE (DESIGN §8)."""
+
+    hidden: Annotated[int, Field(ge=1)] = 64
+    layers: Annotated[int, Field(ge=1)] = 2
+    dropout: Annotated[float, Field(ge=0, lt=1)] = 0.0
+    epochs: Annotated[int, Field(ge=1)] = 60
+    batch: Annotated[int, Field(ge=1)] = 32
+    lr: Positive = 3e-3
+    weight_decay: NonNegative = 0.0
+    patience: Annotated[int, Field(ge=1)] = 10  # early stopping on the validation loss
+    alpha: Annotated[float, Field(ge=0, le=1)] = 0.5  # DILATE shape/temporal balance
+    gamma: Positive = 0.01  # soft-DTW smoothing
+    losses: Annotated[list[Literal["dilate", "mse"]], Field(min_length=1)] = ["dilate", "mse"]
+    use: Literal["dilate", "mse"] = "dilate"  # the models the optimiser and report use
+    threads: Annotated[int, Field(ge=0)] = 0  # torch threads per model, 0 = all cores / models
+    parallel: bool = True  # train the models side by side, one process each
+    seed_offset: Annotated[int, Field(ge=0)] = 3
+
+
+class LogColumns(Strict):
+    time: str = "t"
+    x: str = "x"
+    z: str = "z"
+    Fz: str = "Fz"
+    Fx: str | None = "Fx"  # optional
+
+
+class LogUnits(Strict):
+    time: Literal["s", "ms"] = "s"
+    length: Literal["m", "mm", "um"] = "mm"
+    force: Literal["N", "mN"] = "N"
+
+
+class Logs(Strict):
+    """The format of force logs from a physical platform (`ftfof import-logs`)."""
+
+    columns: LogColumns = LogColumns()
+    units: LogUnits = LogUnits()
+    tension_positive: bool = True  # sign of Fz: detachment (pulling the plate up) positive
+    surface: str = "imported"  # label stored with the imported samples
+
+
 class Base(Strict):
     seed: Annotated[int, Field(ge=0)]
 
@@ -323,6 +376,9 @@ class Params(Strict):
     baselines: Baselines
     sample: Sample
     acquire: Acquire
+    dataset: Dataset = Dataset()
+    logs: Logs = Logs()
+    train: Train = Train()
 
     @field_validator("robot")
     @classmethod

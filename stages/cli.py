@@ -6,7 +6,7 @@ import os
 
 import typer
 
-from stages import acquire, calibrate, sample, simulate
+from stages import acquire, calibrate, dataset, import_logs, sample, simulate, train
 from stages.runtime import tune_allocator
 
 os.environ.setdefault("MLFLOW_DISABLE_TELEMETRY", "true")
@@ -28,6 +28,9 @@ def _root() -> None:
 
 app.command("sample")(sample.command)
 app.command("acquire")(acquire.command)
+app.command("dataset")(dataset.command)
+app.command("import-logs")(import_logs.command)
+app.command("train")(train.command)
 app.command("simulate")(simulate.command)
 app.command("calibrate")(calibrate.command)
 

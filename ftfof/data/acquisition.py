@@ -26,6 +26,7 @@ SCALARS = (
     ("switch_time", "s", "photoelectric switch: all bonds broken, pad above the switch"),
     ("bonds_at_end", "", "bonds intact at the end of the hold"),
     ("steps", "", "solver steps"),
+    ("retries", "", "1 if the solver needed a second, more careful attempt"),
 )
 UNITS = {
     "t": "s", "x_cmd": "m", "z_cmd": "m", "x_foot": "m", "z_foot": "m", "Fx": "N", "Fz": "N",
@@ -60,9 +61,12 @@ def to_table(
     surface: str,
     controls: dict[str, np.ndarray],
     duration: float,
+    with_wall_time: bool = True,
 ) -> pa.Table:
-    """Pending rows for ``results``; ``controls`` maps a result key to its 12 decision values."""
-    cols: dict[str, list] = {f.name: [] for f in PENDING}
+    """Rows for ``results`` (PENDING schema, or ACQUISITION without wall times); ``controls``
+    maps a result key to its 12 decision values."""
+    target = PENDING if with_wall_time else ACQUISITION
+    cols: dict[str, list] = {f.name: [] for f in target}
     nan12 = np.full(12, np.nan)
     for r in results:
         cols["key"].append(r.key)
@@ -72,7 +76,8 @@ def to_table(
         cols["surface"].append(surface)
         cols["status"].append(r.status)
         cols["error"].append(r.error)
-        cols["wall_time"].append(r.wall_time)
+        if with_wall_time:
+            cols["wall_time"].append(r.wall_time)
         X = controls.get(r.key, nan12)
         for j, name in enumerate(DECISION_NAMES):
             cols[name].append(float(X[j]))
@@ -81,4 +86,4 @@ def to_table(
             cols[name].append(float(r.scalars.get(name, np.nan)))
         for c in CHANNELS:
             cols[c].append(np.asarray(r.channels.get(c, []), dtype=np.float32))
-    return pa.Table.from_pydict(cols, schema=PENDING)
+    return pa.Table.from_pydict(cols, schema=target)

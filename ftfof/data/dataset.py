@@ -1,0 +1,216 @@
+"""Acquisitions -> fixed-length training sequences for the surrogates (DESIGN §7).
+
+One row per sample with fixed-length list columns. Each sample is cut to its trajectory time
+base [0, T3 + hold] and resampled to ``seq_len`` bins: the commanded foot x, z at the bin centres
+and their velocities (differentiated from the commanded positions at the acquisition rate), and
+the targets Fd, Fp as the *maximum* in each bin, so the peaks the objectives read (fs1, fs3) are
+not smoothed away by the downsampling. Baselines stay in the table with split ``baseline`` and
+out of training; the rest is split 85/15 by sample with a seeded permutation. Normalisation
+statistics come from the training split only.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import asdict, dataclass
+
+import numpy as np
+import pyarrow as pa
+from numpy.typing import NDArray
+
+from ftfof import config
+from ftfof.data.schema import field
+from ftfof.errors import DataError
+from ftfof.trajectory.bezier import DECISION_NAMES
+
+Array = NDArray[np.float64]
+INPUTS = ("x", "z", "vx", "vz")
+TARGETS = ("Fd", "Fp")
+UNITS = {"x": "m", "z": "m", "vx": "m/s", "vz": "m/s", "Fd": "N", "Fp": "N", "t": "s"}
+METADATA_KEY = b"ftfof"
+
+
+def schema(seq_len: int) -> pa.Schema:
+    seq = pa.list_(pa.float32(), seq_len)
+    series = [
+        field(n, seq, UNITS[n], f"{n} on the trajectory time base")
+        for n in ("t", *INPUTS, *TARGETS)
+    ]
+    return pa.schema(
+        [
+            field("key", pa.string(), "", "source:sample_id"),
+            field("source", pa.string(), "", "sampled | baseline:<name> | imported"),
+            field("sample_id", pa.int64(), "", "row of the trajectory table (sampled)"),
+            field("split", pa.string(), "", "train | validation | baseline"),
+            *[
+                field(n, pa.float64(), "m", f"control point {n} (NaN if not a Bezier)")
+                for n in DECISION_NAMES
+            ],
+            field("T3", pa.float64(), "s", "trajectory duration"),
+            field("peak_detachment", pa.float64(), "N", "max Fd of the full-rate series"),
+            field("peak_pre_pressure", pa.float64(), "N", "max Fp of the full-rate series"),
+            field("peak_body_acc", pa.float64(), "m/s^2", "max body jitter"),
+            *series,
+        ]
+    )
+
+
+@dataclass(frozen=True)
+class Normalization:
+    """Per-feature affine scaling fitted on the training split: (value - mean) / scale."""
+
+    input_mean: list[float]
+    input_scale: list[float]
+    target_scale: list[float]  # forces are only scaled (they are >= 0 and start at 0)
+
+    @classmethod
+    def fit(cls, inputs: Array, targets: Array) -> Normalization:
+        """``inputs`` (n, seq, 4), ``targets`` (n, seq, 2) of the training split."""
+        mean = inputs.mean(axis=(0, 1))
+        scale = inputs.std(axis=(0, 1))
+        tscale = np.sqrt(np.mean(targets**2, axis=(0, 1)))
+        return cls(
+            mean.tolist(),
+            np.where(scale > 0, scale, 1.0).tolist(),
+            np.where(tscale > 0, tscale, 1.0).tolist(),
+        )
+
+    def to_json(self) -> str:
+        return json.dumps(asdict(self))
+
+    @classmethod
+    def from_json(cls, text: str) -> Normalization:
+        return cls(**json.loads(text))
+
+
+def time_base(T3: float, hold: float, seq_len: int) -> Array:
+    """Bin centres of ``seq_len`` equal bins over [0, T3 + hold]."""
+    edges = np.linspace(0.0, T3 + hold, seq_len + 1)
+    return 0.5 * (edges[:-1] + edges[1:])
+
+
+def bin_max(t: Array, values: Array, T3: float, hold: float, seq_len: int) -> Array:
+    """Maximum of ``values`` in each bin of [0, T3 + hold]; empty bins take the interpolated value."""
+    edges = np.linspace(0.0, T3 + hold, seq_len + 1)
+    inside = (t >= edges[0]) & (t <= edges[-1])
+    idx = np.clip(np.searchsorted(edges, t[inside], side="right") - 1, 0, seq_len - 1)
+    out = np.full(seq_len, -np.inf)
+    np.maximum.at(out, idx, values[inside])
+    empty = ~np.isfinite(out)
+    if empty.any():
+        centres = 0.5 * (edges[:-1] + edges[1:])
+        out[empty] = np.interp(centres[empty], t, values)
+    return out
+
+
+def resample(
+    t: Array, x: Array, z: Array, fd: Array, fp: Array, T3: float, hold: float, seq_len: int
+) -> dict[str, Array]:
+    """One sample's sequences; ``t`` is time from the trajectory start (monotonic)."""
+    grid = time_base(T3, hold, seq_len)
+    vx, vz = np.gradient(x, t), np.gradient(z, t)
+    return {
+        "t": grid,
+        "x": np.interp(grid, t, x),
+        "z": np.interp(grid, t, z),
+        "vx": np.interp(grid, t, vx),
+        "vz": np.interp(grid, t, vz),
+        "Fd": bin_max(t, fd, T3, hold, seq_len),
+        "Fp": bin_max(t, fp, T3, hold, seq_len),
+    }
+
+
+def split(keys: list[str], fraction: float, seed: int) -> list[str]:
+    """'train' / 'validation' per key: a seeded permutation, round(fraction * n) validation."""
+    order = np.random.default_rng(seed).permutation(len(keys))
+    n_val = int(round(fraction * len(keys)))
+    labels = np.full(len(keys), "train", dtype=object)
+    labels[order[:n_val]] = "validation"
+    return labels.tolist()
+
+
+def build(
+    acquisition: pa.Table, settings: config.Dataset, seed: int
+) -> tuple[pa.Table, Normalization]:
+    """The dataset table (ok samples only) and its training-split normalisation."""
+    ok = acquisition.filter(pa.compute.equal(acquisition.column("status"), "ok"))
+    if ok.num_rows == 0:
+        raise DataError("dataset", "no successful samples in the acquisition")
+    scalar_names = [
+        "key",
+        "source",
+        "sample_id",
+        *DECISION_NAMES,
+        "T3",
+        "peak_detachment",
+        "peak_pre_pressure",
+        "peak_body_acc",
+    ]
+    cols = ok.select(scalar_names).to_pydict()
+    series = {c: list_column(ok, c) for c in ("t", "x_cmd", "z_cmd", "Fd", "Fp")}
+    n = ok.num_rows
+    seqs = {name: np.empty((n, settings.seq_len)) for name in ("t", *INPUTS, *TARGETS)}
+    for i in range(n):  # once per dataset build, not a hot path
+        t = series["t"][i]
+        if t.size < 2 or np.any(np.diff(t) <= 0):
+            raise DataError(cols["key"][i], "series time is not strictly increasing")
+        s = resample(
+            t,
+            series["x_cmd"][i],
+            series["z_cmd"][i],
+            series["Fd"][i],
+            series["Fp"][i],
+            cols["T3"][i],
+            settings.hold,
+            settings.seq_len,
+        )
+        for name, values in s.items():
+            seqs[name][i] = values
+    sources = cols["source"]
+    trainable = [i for i, src in enumerate(sources) if not src.startswith("baseline:")]
+    labels = ["baseline"] * n
+    for i, lab in zip(
+        trainable,
+        split([cols["key"][i] for i in trainable], settings.validation_fraction, seed),
+        strict=True,
+    ):
+        labels[i] = lab
+    train = np.array([lab == "train" for lab in labels])
+    if not train.any():
+        raise DataError("dataset", "no training samples (only baselines?)")
+    inputs = np.stack([seqs[k] for k in INPUTS], axis=-1)
+    targets = np.stack([seqs[k] for k in TARGETS], axis=-1)
+    norm = Normalization.fit(inputs[train], targets[train])
+    data = {
+        "key": cols["key"],
+        "source": sources,
+        "sample_id": cols["sample_id"],
+        "split": labels,
+        **{k: cols[k] for k in DECISION_NAMES},
+        "T3": cols["T3"],
+        "peak_detachment": cols["peak_detachment"],
+        "peak_pre_pressure": cols["peak_pre_pressure"],
+        "peak_body_acc": cols["peak_body_acc"],
+        **{k: list(v.astype(np.float32)) for k, v in seqs.items()},
+    }
+    return pa.Table.from_pydict(data, schema=schema(settings.seq_len)), norm
+
+
+def list_column(table: pa.Table, name: str) -> list[Array]:
+    """A list<float> column as float64 arrays, sliced from the Arrow buffers (no Python floats)."""
+    col = table.column(name).combine_chunks()
+    values = col.values.to_numpy(zero_copy_only=False).astype(np.float64)
+    offsets = col.offsets.to_numpy()
+    return [values[offsets[i] : offsets[i + 1]] for i in range(len(col))]
+
+
+def arrays(table: pa.Table, split_name: str) -> tuple[Array, Array]:
+    """(inputs (n, seq, 4), targets (n, seq, 2)) of one split, float32."""
+    rows = table.filter(pa.compute.equal(table.column("split"), split_name))
+
+    def stack(names: tuple[str, ...]) -> Array:
+        return np.stack(
+            [np.stack(rows.column(k).to_numpy(zero_copy_only=False)) for k in names], axis=-1
+        )
+
+    return stack(INPUTS).astype(np.float32), stack(TARGETS).astype(np.float32)

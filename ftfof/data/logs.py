@@ -1,0 +1,101 @@
+"""Force logs from a physical acquisition platform -> samples in the acquisition format.
+
+A log is one trajectory execution: a table with a time column, the foot position x, z in the
+trajectory frame (origin at the foot's start point, z away from the wall) and the normal force Fz,
+optionally the tangential force Fx. Column names and units come from the ``logs`` settings; a
+header may also carry its unit in brackets, ``x [mm]``, which then wins. Every problem is raised
+as a :class:`DataError` naming the file, the row (1-based, as in a spreadsheet, header = row 1)
+and the column.
+"""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pandas as pd
+
+from ftfof import config
+from ftfof.errors import DataError
+from ftfof.sim.simulate import CHANNELS, SampleResult
+
+SCALE = {
+    "time": {"s": 1.0, "ms": 1e-3},
+    "length": {"m": 1.0, "mm": 1e-3, "um": 1e-6},
+    "force": {"N": 1.0, "mN": 1e-3},
+}
+KIND = {"time": "time", "x": "length", "z": "length", "Fz": "force", "Fx": "force"}
+HEADER = re.compile(r"^\s*(?P<name>[^\[\]]+?)\s*(?:\[(?P<unit>[^\]]*)\])?\s*$")
+
+
+def _columns(df: pd.DataFrame, fmt: config.Logs, source: str) -> dict[str, tuple[str, float]]:
+    """Map each quantity to (header, scale to SI); checks presence and units."""
+    headers = {}
+    for header in df.columns:
+        m = HEADER.match(str(header))
+        if m:
+            headers[m.group("name")] = (str(header), m.group("unit"))
+    wanted = fmt.columns.model_dump()
+    out = {}
+    for quantity, name in wanted.items():
+        if name is None:
+            continue
+        if name not in headers:
+            if quantity == "Fx":
+                continue
+            raise DataError(source, f"row 1, column {name!r}: missing (needed for {quantity})")
+        header, unit = headers[name]
+        kind = KIND[quantity]
+        unit = unit if unit is not None else getattr(fmt.units, kind)
+        if unit not in SCALE[kind]:
+            raise DataError(
+                source,
+                f"row 1, column {header!r}: unknown {kind} unit {unit!r} "
+                f"(known: {', '.join(SCALE[kind])})",
+            )
+        out[quantity] = (header, SCALE[kind][unit])
+    return out
+
+
+def parse(df: pd.DataFrame, fmt: config.Logs, source: str, name: str, sample_id: int) -> SampleResult:
+    """One validated log as the sample ``imported:<name>`` (channels in SI, tension positive)."""
+    cols = _columns(df, fmt, source)
+    values = {}
+    for quantity, (header, scale) in cols.items():
+        v = pd.to_numeric(df[header], errors="coerce").to_numpy(dtype=float)
+        bad = np.flatnonzero(~np.isfinite(v))
+        if bad.size:
+            raise DataError(source, f"row {bad[0] + 2}, column {header!r}: not a finite number")
+        values[quantity] = v * scale
+    t = values["time"]
+    if t.size < 2:
+        raise DataError(source, "row 2: a log needs at least two rows")
+    back = np.flatnonzero(np.diff(t) <= 0)
+    if back.size:
+        header = cols["time"][0]
+        raise DataError(source, f"row {back[0] + 3}, column {header!r}: time does not increase")
+    fz = values["Fz"] if fmt.tension_positive else -values["Fz"]
+    nan = np.full_like(t, np.nan)
+    x, z = values["x"], values["z"]
+    channels = {
+        "t": t - t[0],
+        "x_cmd": x,
+        "z_cmd": z,
+        "x_foot": x,
+        "z_foot": z,
+        "Fx": values.get("Fx", nan),
+        "Fz": fz,
+        "Fd": np.maximum(fz, 0.0),
+        "Fp": np.maximum(-fz, 0.0),
+        "body_acc": nan,
+        "bonds": nan,
+        "switch": nan,
+    }
+    assert set(channels) == set(CHANNELS)
+    scalars = {
+        "peak_detachment": float(channels["Fd"].max()),
+        "peak_pre_pressure": float(channels["Fp"].max()),
+    }
+    result = SampleResult(f"imported:{name}", "imported", sample_id, "ok", "", 0.0, channels)
+    result.scalars = scalars
+    return result

@@ -1,0 +1,82 @@
+"""MLflow conventions: where the store is and what every run is tagged with (DESIGN §8)."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+from pathlib import Path
+
+from stages.common import repo_root
+
+EXPERIMENT_PREFIX = "ftfof"
+
+
+def project_root() -> Path:
+    """The repository, also when DVC runs an experiment in a temporary copy under .dvc/tmp."""
+    root = repo_root()
+    parts = root.parts
+    if ".dvc" in parts:
+        i = parts.index(".dvc")
+        if parts[i + 1 : i + 3] == ("tmp", "exps"):
+            return Path(*parts[:i])
+    return root
+
+
+def tracking_uri() -> str:
+    """``MLFLOW_TRACKING_URI`` if set, else an absolute SQLite store at the repository root."""
+    return os.environ.get("MLFLOW_TRACKING_URI") or f"sqlite:///{project_root() / 'mlflow.db'}"
+
+
+def setup(experiment: str):
+    """Import MLflow configured for this project (quietly) and select the experiment."""
+    os.environ.setdefault("MLFLOW_DISABLE_TELEMETRY", "true")
+    os.environ.setdefault("GIT_PYTHON_REFRESH", "quiet")
+    import logging
+
+    import mlflow
+
+    logging.getLogger("mlflow").setLevel(logging.ERROR)
+    logging.getLogger("alembic").setLevel(logging.ERROR)
+    mlflow.set_tracking_uri(tracking_uri())
+    if mlflow.get_experiment_by_name(experiment) is None and not os.environ.get(
+        "MLFLOW_TRACKING_URI"
+    ):
+        # Artifacts beside the store, whatever directory the stage runs in (dvc exp --temp).
+        artifacts = (project_root() / "mlruns").as_uri()
+        mlflow.create_experiment(experiment, artifact_location=artifacts)
+    mlflow.set_experiment(experiment)
+    return mlflow
+
+
+def experiment_name(robot: str) -> str:
+    return f"{EXPERIMENT_PREFIX}-{robot}"
+
+
+def tags(stage: str) -> dict[str, str]:
+    """Provenance tags: git commit, DVC stage and experiment (set by `dvc exp run`)."""
+    out = {"dvc.stage": os.environ.get("DVC_STAGE", stage), "git.commit": git_commit()}
+    for env, key in (("DVC_EXP_NAME", "dvc.exp_name"), ("DVC_EXP_BASELINE_REV", "dvc.baseline")):
+        if os.environ.get(env):
+            out[key] = os.environ[env]
+    return out
+
+
+def git_commit() -> str:
+    try:
+        cmd = ["git", "rev-parse", "HEAD"]
+        out = subprocess.run(cmd, capture_output=True, text=True, timeout=10, cwd=project_root())
+    except OSError:
+        return "unknown"
+    return out.stdout.strip() or "unknown"
+
+
+def flatten(data: dict, prefix: str = "") -> dict[str, str]:
+    """Nested settings as MLflow params: dotted keys, string values."""
+    out: dict[str, str] = {}
+    for key, value in data.items():
+        name = f"{prefix}{key}"
+        if isinstance(value, dict):
+            out.update(flatten(value, f"{name}."))
+        else:
+            out[name] = str(value)
+    return out

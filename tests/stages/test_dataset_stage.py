@@ -1,0 +1,146 @@
+"""Stage `dataset` and `ftfof import-logs`: the Parquet dataset, bad inputs, real-log round trip."""
+
+import json
+
+import numpy as np
+import pandas as pd
+import pyarrow as pa
+import pyarrow.parquet as pq
+import pytest
+from typer.testing import CliRunner
+
+from ftfof.data import dataset
+from ftfof.data.acquisition import to_table
+from ftfof.sim.pool import run_all
+from ftfof.trajectory.sampling import sample_feasible
+from stages.cli import app
+from tests.data.fake import fake_acquisition
+from tests.sim.helpers import bench
+
+runner = CliRunner()
+
+
+def _dataset_args(tmp, acq, imported=None):
+    return [
+        "dataset",
+        "--acquisition",
+        str(acq),
+        "--imported",
+        str(imported or tmp / "none"),
+        "--out",
+        str(tmp / "ds"),
+        "--metrics",
+        str(tmp / "ds.json"),
+        "--plot",
+        str(tmp / "ds.png"),
+    ]
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("ds")
+    (tmp / "acq").mkdir()
+    pq.write_table(fake_acquisition(40, failed=2), tmp / "acq" / "samples.parquet")
+    result = runner.invoke(app, _dataset_args(tmp, tmp / "acq"))
+    assert result.exit_code == 0, result.stderr
+    return tmp
+
+
+def test_the_dataset_has_the_documented_schema_units_and_metadata(built):
+    table = pq.read_table(built / "ds" / "samples.parquet")
+    seq = json.loads(table.schema.metadata[dataset.METADATA_KEY])["seq_len"]
+    assert table.schema.equals(dataset.schema(seq), check_metadata=False)
+    units = {f.name: f.metadata[b"unit"].decode() for f in table.schema}
+    assert units["x"] == "m" and units["vz"] == "m/s" and units["Fd"] == "N" and units["t"] == "s"
+    meta = json.loads(table.schema.metadata[dataset.METADATA_KEY])
+    assert {"params_hash", "robot", "surface", "exudyn", "git_commit", "normalization"} <= set(meta)
+    assert meta["robot"] == "mst_m3f" and meta["exudyn"] == "1.13.6"
+    summary = json.loads((built / "ds.json").read_text())
+    assert summary["excluded_failed"] == 2 and summary["baseline"] == 2
+    assert (built / "ds.png").stat().st_size > 10_000
+
+
+def test_train_and_validation_are_disjoint_85_15_and_stable(built, tmp_path):
+    table = pq.read_table(built / "ds" / "samples.parquet")
+    split = dict(
+        zip(table.column("key").to_pylist(), table.column("split").to_pylist(), strict=True)
+    )
+    train = {k for k, s in split.items() if s == "train"}
+    val = {k for k, s in split.items() if s == "validation"}
+    assert not train & val
+    assert abs(len(val) - 0.15 * (len(train) + len(val))) <= 1
+    again = runner.invoke(app, _dataset_args(tmp_path, built / "acq"))
+    assert again.exit_code == 0
+    again_bytes = (tmp_path / "ds" / "samples.parquet").read_bytes()
+    assert again_bytes == (built / "ds" / "samples.parquet").read_bytes()  # byte-identical
+
+
+def test_a_truncated_acquisition_is_one_clear_error_and_leaves_nothing(built, tmp_path):
+    (tmp_path / "acq").mkdir()
+    good = (built / "acq" / "samples.parquet").read_bytes()
+    (tmp_path / "acq" / "samples.parquet").write_bytes(good[: len(good) // 2])
+    result = runner.invoke(app, _dataset_args(tmp_path, tmp_path / "acq"))
+    assert result.exit_code == 1
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and "unreadable acquisition" in lines[0]
+    assert not (tmp_path / "ds").exists() and not (tmp_path / "ds.json").exists()
+
+
+def test_a_schema_mismatched_acquisition_names_the_column(built, tmp_path):
+    (tmp_path / "acq").mkdir()
+    table = pq.read_table(built / "acq" / "samples.parquet")
+    pq.write_table(table.drop_columns(["Fp"]), tmp_path / "acq" / "samples.parquet")
+    result = runner.invoke(app, _dataset_args(tmp_path, tmp_path / "acq"))
+    assert result.exit_code == 1
+    assert "missing column 'Fp'" in result.stderr
+    assert not (tmp_path / "ds").exists()
+
+
+def test_a_malformed_log_among_good_ones_imports_nothing(tmp_path):
+    good = tmp_path / "good.csv"
+    bad = tmp_path / "bad.csv"
+    t = np.linspace(0, 1, 5)
+    pd.DataFrame({"t": t, "x": t, "z": t, "Fz": t}).to_csv(good, index=False)
+    pd.DataFrame({"t": t[::-1], "x": t, "z": t, "Fz": t}).to_csv(bad, index=False)
+    result = runner.invoke(
+        app, ["import-logs", str(good), str(bad), "--out", str(tmp_path / "imp")]
+    )
+    assert result.exit_code == 1
+    assert "bad.csv: row 3, column 't': time does not increase" in result.stderr
+    assert not (tmp_path / "imp").exists()
+
+
+def test_simulated_samples_exported_as_logs_and_imported_back_give_the_same_rows(
+    params, m3f, tmp_path
+):
+    X = sample_feasible(m3f.policy, 5, seed=21).X
+    specs = [bench(params).bezier("sampled", i, x) for i, x in enumerate(X)]
+    results = run_all(specs, workers=2)
+    T3 = m3f.robot.timing.T3
+    simulated = to_table(results, "mst_m3f", "acrylic", {}, T3, with_wall_time=False)
+    logs = []
+    for r in results:  # the documented log format: t [s], x and z [mm], Fz and Fx [N]
+        c = r.channels
+        keep = c["t"] >= 0
+        path = tmp_path / f"run{r.sample_id}.csv"
+        pd.DataFrame(
+            {
+                "t": c["t"][keep],
+                "x": c["x_cmd"][keep] * 1e3,
+                "z": c["z_cmd"][keep] * 1e3,
+                "Fz": c["Fz"][keep],
+                "Fx": c["Fx"][keep],
+            }
+        ).to_csv(path, index=False, float_format="%.9g")
+        logs.append(str(path))
+    result = runner.invoke(app, ["import-logs", *logs, "--out", str(tmp_path / "imp")])
+    assert result.exit_code == 0, result.stderr
+    imp = pa.concat_tables([pq.read_table(p) for p in sorted((tmp_path / "imp").glob("*.parquet"))])
+    settings = params.dataset
+    a, _ = dataset.build(simulated, settings, seed=0)
+    b, _ = dataset.build(imp, settings, seed=0)
+    for name in ("x", "z", "vx", "vz", "Fd", "Fp"):
+        sa = np.stack(a.column(name).to_numpy(zero_copy_only=False))
+        sb = np.stack(b.column(name).to_numpy(zero_copy_only=False))
+        scale = np.abs(sa).max()
+        np.testing.assert_allclose(sb, sa, atol=1e-4 * scale, err_msg=name)

@@ -1,0 +1,20 @@
+"""The NumPy GRU the optimiser uses computes exactly what the trained torch model computes."""
+
+import numpy as np
+import pytest
+import torch
+
+from ftfof.surrogate.model import ForceGRU, ModelConfig
+from ftfof.surrogate.predict import GRUWeights
+
+
+@pytest.mark.parametrize(("hidden", "layers"), [(8, 1), (16, 2)])
+def test_numpy_gru_matches_torch(hidden, layers):
+    torch.manual_seed(layers)
+    model = ForceGRU(ModelConfig(hidden=hidden, layers=layers)).eval()
+    x = torch.randn(7, 25, 4)
+    with torch.no_grad():
+        expected = model(x)[..., 0].double().numpy()
+    weights = GRUWeights.from_state({k: v.numpy() for k, v in model.state_dict().items()})
+    np.testing.assert_allclose(weights(x.numpy()), expected, rtol=1e-5, atol=1e-6)
+    assert np.all(weights(x.numpy()) >= 0)

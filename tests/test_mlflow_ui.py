@@ -1,0 +1,89 @@
+"""A real `mlflow ui` on 127.0.0.1 serves the training runs over its REST API (slow)."""
+
+import json
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+import urllib.request
+from pathlib import Path
+
+import pytest
+
+from tests.stages.test_train_stage import trained  # noqa: F401 - the fixture that trains
+
+pytestmark = pytest.mark.slow
+
+
+def _port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def _call(url: str, body: dict | None = None) -> dict:
+    data = json.dumps(body).encode() if body is not None else None
+    req = urllib.request.Request(url, data=data, headers={"Content-Type": "application/json"})
+    with urllib.request.urlopen(req, timeout=30) as resp:
+        return json.loads(resp.read())
+
+
+def test_mlflow_ui_serves_the_runs_and_a_metric_history(trained):  # noqa: F811
+    tmp, uri, _ = trained
+    port = _port()
+    mlflow = str(Path(sys.executable).parent / "mlflow")
+    env = {**os.environ, "MLFLOW_DISABLE_TELEMETRY": "true"}
+    proc = subprocess.Popen(
+        [
+            mlflow,
+            "ui",
+            "--backend-store-uri",
+            uri,
+            "--host",
+            "127.0.0.1",
+            "--port",
+            str(port),
+            "--workers",
+            "1",
+        ],
+        cwd=tmp,
+        env=env,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
+    base = f"http://127.0.0.1:{port}"
+    try:
+        deadline = time.monotonic() + 180
+        while True:
+            try:
+                with urllib.request.urlopen(f"{base}/health", timeout=5) as resp:
+                    if resp.status == 200:
+                        break
+            except OSError:
+                pass
+            assert proc.poll() is None, "mlflow ui exited"
+            assert time.monotonic() < deadline, "mlflow ui did not come up"
+            time.sleep(1)
+        experiment = _call(
+            f"{base}/api/2.0/mlflow/experiments/get-by-name?experiment_name=ftfof-mst_m3f"
+        )
+        exp_id = experiment["experiment"]["experiment_id"]
+        runs = _call(f"{base}/api/2.0/mlflow/runs/search", {"experiment_ids": [exp_id]})["runs"]
+        names = sorted(r["info"]["run_name"] for r in runs)
+        assert names == ["Fd-dilate", "Fd-mse", "Fp-dilate", "Fp-mse", "train"]
+        child = next(r for r in runs if r["info"]["run_name"] == "Fd-dilate")
+        history = _call(
+            f"{base}/api/2.0/mlflow/metrics/get-history?run_id={child['info']['run_id']}&metric_key=validation_loss"
+        )["metrics"]
+        assert [m["step"] for m in history] == list(range(len(history))) and history
+        with urllib.request.urlopen(f"{base}/", timeout=30) as resp:
+            assert resp.status == 200  # the UI page itself
+    finally:
+        os.killpg(proc.pid, signal.SIGTERM)
+        try:
+            proc.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)

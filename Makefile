@@ -11,6 +11,10 @@ export MLFLOW_TRACKING_URI ?= sqlite:///$(CURDIR)/mlflow.db
 
 .PHONY: repro test test-fast bench lint
 
+# The report test renders in headless Chromium (Debian's package; no browser download).
+CHROMIUM := /usr/bin/chromium
+SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
+
 $(VENV)/.installed: pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
@@ -21,7 +25,11 @@ $(VENV)/.installed: pyproject.toml
 repro: $(VENV)/.installed
 	dvc repro
 
-test: $(VENV)/.installed
+$(CHROMIUM):
+	$(SUDO) apt-get update -qq
+	DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq chromium
+
+test: $(VENV)/.installed $(CHROMIUM)
 	pytest -q
 	pytest -q -m slow
 

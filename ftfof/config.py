@@ -303,6 +303,30 @@ class Train(Strict):
     seed_offset: Annotated[int, Field(ge=0)] = 3
 
 
+class Optimize(Strict):
+    """NSGA-II on the surrogates and the RHS choice (FTFOF §V.B-C, DESIGN §10); paper defaults."""
+
+    population: Annotated[int, Field(ge=4)] = 200
+    generations: Annotated[int, Field(ge=1)] = 2000
+    seed_offset: Annotated[int, Field(ge=0)] = 4
+    seeded_start: bool = True  # initial population from feasible Sobol draws, not uniform
+    crossover_eta: Positive = 15.0  # SBX distribution index
+    crossover_prob: Fraction = 0.9
+    mutation_eta: Positive = 20.0  # polynomial mutation distribution index
+    log_every: Annotated[int, Field(ge=1)] = 10  # generations between hypervolume records
+    recheck_samples: Annotated[int, Field(ge=16)] = 4096  # independent feasibility grid
+    rhs_alpha: Fraction = 0.9  # Algorithm 1: initial fraction of each objective's range
+    rhs_beta: Annotated[float, Field(gt=0, lt=1)] = 0.9  # Algorithm 1: shrink factor
+
+
+class Evaluate(Strict):
+    """Re-simulation of the optimum against the baselines, and the controller export (§11)."""
+
+    front_points: Annotated[int, Field(ge=0)] = 20  # front members re-simulated for fidelity
+    export_rate_hz: Annotated[float, Field(gt=0, le=100_000)] = 500.0  # controller CSV rate
+    reference: Literal["polynomial", "cycloidal", "random_bezier", "eps_bezier"] = "polynomial"
+
+
 class LogColumns(Strict):
     time: str = "t"
     x: str = "x"
@@ -379,6 +403,8 @@ class Params(Strict):
     dataset: Dataset = Dataset()
     logs: Logs = Logs()
     train: Train = Train()
+    optimize: Optimize = Optimize()
+    evaluate: Evaluate = Evaluate()
 
     @field_validator("robot")
     @classmethod

@@ -36,3 +36,7 @@ class DataError(FtfofError):
 
 class SimulationError(FtfofError):
     """A simulation that raised, diverged or stopped early."""
+
+
+class OptimizationError(FtfofError):
+    """A search that found no feasible trajectory, or none that survives the independent recheck."""

@@ -6,6 +6,9 @@ force series (predicted or simulated); fs4, fs5 and fs6 read the sampled traject
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
 import numba
 import numpy as np
 from numpy.typing import NDArray
@@ -115,3 +118,41 @@ def fs7_jitter(Fd: Array, dt: float, m: float = JITTER_SIGMAS) -> Array:
     with np.errstate(invalid="ignore", divide="ignore"):
         z = np.where(sigma > 0, (acc - mu) / sigma, 0.0)
     return np.sum(np.maximum(np.abs(z) - m, 0.0), axis=-1)
+
+
+@dataclass(frozen=True)
+class Evidence:
+    """What the strategy functions read for one population.
+
+    Forces (predicted or simulated) on one uniform time base of step ``dt``; the foot path sampled
+    on its own grid ``t`` over [0, T3]; the adhesion segment [T2, T3]; the pre-pressure a.
+    """
+
+    Fd: Array
+    Fp: Array
+    dt: float
+    position: Array
+    velocity: Array
+    t: Array
+    adhesion: tuple[float, float]
+    pre_pressure: float
+    min_step: float = 1e-9
+
+
+STRATEGIES: dict[str, Callable[[Evidence], Array]] = {
+    "fs1": lambda e: fs1_max_detachment(e.Fd),
+    "fs2": lambda e: fs2_mean_detachment(e.Fd),
+    "fs3": lambda e: fs3_pre_pressure_error(e.Fp, e.pre_pressure),
+    "fs4": lambda e: fs4_mean_height(e.position),
+    "fs5": lambda e: fs5_adhesion_path_length(e.velocity, e.t, *e.adhesion),
+    "fs6": lambda e: fs6_bending(e.position, e.min_step),
+    "fs7": lambda e: fs7_jitter(e.Fd, e.dt),
+}
+
+
+def strategy_values(names: Sequence[str], evidence: Evidence) -> Array:
+    """(pop, len(names)) values of the named strategy functions, columns in the given order."""
+    unknown = [n for n in names if n not in STRATEGIES]
+    if unknown:
+        raise ValueError(f"unknown strategy functions {unknown} (have {sorted(STRATEGIES)})")
+    return np.column_stack([STRATEGIES[n](evidence) for n in names])

@@ -9,13 +9,12 @@ on completion order.
 
 from __future__ import annotations
 
-import time
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
-from stages.common import ParamsOption, console, progress, stage, write_json
+from stages.common import ParamsOption, console, stage, write_json
 
 OUT = Path("data/acquisition")
 TRAJECTORIES = Path("data/trajectories.parquet")
@@ -47,17 +46,8 @@ def command(
         f"{len(job.specs) - len(todo)} already done, {len(todo)} to simulate"
         + (f" on {address}" if address else "")
     )
-    started = time.perf_counter()
-    with progress("acquire") as bar:
-        task = bar.add_task(
-            "acquire", total=len(job.specs), completed=len(job.specs) - len(todo), info=""
-        )
-        done = 0
-        for results in job.run(todo, n_workers, address):
-            done += len(results)
-            rate = done / max(time.perf_counter() - started, 1e-9)
-            bar.update(task, advance=len(results), info=f"{rate:.2f} samples/s")
-    summary = job.finish(time.perf_counter() - started, len(todo), timing)
+    wall = job.simulate(todo, n_workers, address, "acquire")
+    summary = job.finish(wall, len(todo), timing)
     write_json(metrics, summary)
     console.print(
         f"{summary['ok']} ok, {summary['failed']} failed "

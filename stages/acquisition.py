@@ -8,6 +8,7 @@ from __future__ import annotations
 import hashlib
 import json
 import shutil
+import time
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -26,7 +27,7 @@ from ftfof.sim.simulate import SampleResult
 from ftfof.sim.spec import Bench, SampleSpec
 from ftfof.trajectory.baselines import common_trajectories
 from ftfof.trajectory.bezier import DECISION_NAMES
-from stages.common import atomic_path, read_table, write_json, write_parquet
+from stages.common import atomic_path, progress, read_table, write_json, write_parquet
 from stages.params import load_params
 from stages.robot import RobotContext, robot_context
 
@@ -73,6 +74,20 @@ class Acquisition:
                 ctx.policy, params.baselines, params.base.seed
             ).items():
                 specs.append(bench.analytic(f"baseline:{name}", 0, traj))
+        inputs = {"trajectories": file_digest(trajectories), "limit": limit}
+        return cls.start(params, ctx, out, specs, controls, inputs)
+
+    @classmethod
+    def start(
+        cls,
+        params: Params,
+        ctx: RobotContext,
+        out: Path,
+        specs: list[SampleSpec],
+        controls: dict[str, np.ndarray],
+        inputs: dict[str, object],
+    ) -> Acquisition:
+        """A job over ``specs``, resumable while the physics settings and ``inputs`` hold."""
         key = fingerprint(
             {
                 "robot": ctx.robot.model_dump(),
@@ -81,9 +96,8 @@ class Acquisition:
                 "acquire": params.acquire.model_dump(exclude={"workers", "scheduler", "batch"}),
                 "baselines": params.baselines.model_dump(),
                 "seed": params.base.seed,
-                "trajectories": file_digest(trajectories),
-                "limit": limit,
                 "versions": versions(),
+                **inputs,
             }
         )
         job = cls(params, ctx, out, specs, controls, key)
@@ -130,6 +144,21 @@ class Acquisition:
         for results in pool.run(todo, workers, cfg.batch, address):
             self._write_part(results)
             yield results
+
+    def simulate(
+        self, todo: Sequence[SampleSpec], workers: int, address: str | None, label: str
+    ) -> float:
+        """Run ``todo`` with a progress bar (already-done samples count as complete); wall time."""
+        started = time.perf_counter()
+        with progress(label) as bar:
+            total, done = len(self.specs), len(self.specs) - len(todo)
+            task = bar.add_task(label, total=total, completed=done, info="")
+            finished = 0
+            for results in self.run(todo, workers, address):
+                finished += len(results)
+                rate = finished / max(time.perf_counter() - started, 1e-9)
+                bar.update(task, advance=len(results), info=f"{rate:.2f} samples/s")
+        return time.perf_counter() - started
 
     def _write_part(self, results: Sequence[SampleResult]) -> None:
         table = self._table(results)

@@ -6,7 +6,18 @@ import os
 
 import typer
 
-from stages import acquire, calibrate, dataset, import_logs, sample, simulate, train
+from stages import (
+    acquire,
+    calibrate,
+    dataset,
+    evaluate,
+    import_logs,
+    optimize,
+    profile,
+    sample,
+    simulate,
+    train,
+)
 from stages.runtime import tune_allocator
 
 os.environ.setdefault("MLFLOW_DISABLE_TELEMETRY", "true")
@@ -31,6 +42,9 @@ app.command("acquire")(acquire.command)
 app.command("dataset")(dataset.command)
 app.command("import-logs")(import_logs.command)
 app.command("train")(train.command)
+app.command("optimize")(optimize.command)
+app.command("evaluate")(evaluate.command)
+app.command("profile")(profile.command)
 app.command("simulate")(simulate.command)
 app.command("calibrate")(calibrate.command)
 

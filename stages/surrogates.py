@@ -94,3 +94,17 @@ def load_surrogate(directory: Path, loss: str | None = None) -> Surrogate:
         weights.append(GRUWeights.from_state({k: v.numpy() for k, v in state.items()}))
     norm = dataset.Normalization.from_json((directory / "normalization.json").read_text())
     return Surrogate(weights[0], weights[1], norm, config["seq_len"], config["hold"])
+
+
+def models_digest(directory: Path) -> str:
+    """SHA-256 (16 hex) of every file in the model directory: names a set of trained surrogates.
+
+    The train stage tags its MLflow run with it, so a later stage can find the run that produced
+    the models it used without storing a run id inside the (DVC-tracked) model directory.
+    """
+    if not directory.is_dir():
+        raise DataError(str(directory), "no trained models (run `ftfof train` first)")
+    h = hashlib.sha256()
+    for path in sorted(p for p in directory.iterdir() if p.is_file()):
+        h.update(path.name.encode() + b"\0" + path.read_bytes() + b"\0")
+    return h.hexdigest()[:16]

@@ -9,6 +9,8 @@ from pathlib import Path
 from stages.common import repo_root
 
 EXPERIMENT_PREFIX = "ftfof"
+MODELS_DIGEST_TAG = "ftfof.models_digest"  # on the train run that wrote data/models
+OPTIMUM_DIGEST_TAG = "ftfof.optimum_digest"  # on the optimize run that wrote data/optimize
 
 
 def project_root() -> Path:
@@ -80,3 +82,27 @@ def flatten(data: dict, prefix: str = "") -> dict[str, str]:
         else:
             out[name] = str(value)
     return out
+
+
+def latest_run(mlflow, experiment: str, run_name: str, tag: str, value: str) -> str | None:
+    """The latest finished run named ``run_name`` carrying ``tag = value``, if this store has one.
+
+    Links a stage's run to the run that made its inputs (train -> models, optimize -> optimum).
+    """
+    runs = mlflow.search_runs(
+        experiment_names=[experiment],
+        filter_string=(
+            f"attributes.run_name = '{run_name}' AND attributes.status = 'FINISHED' "
+            f"AND tags.`{tag}` = '{value}'"
+        ),
+        order_by=["attributes.start_time DESC"],
+        max_results=1,
+        output_format="list",
+    )
+    return runs[0].info.run_id if runs else None
+
+
+def link_note(mlflow, experiment: str, what: str, run_id: str) -> str:
+    """Markdown for the run description: a link to another run of the same experiment."""
+    experiment_id = mlflow.get_experiment_by_name(experiment).experiment_id
+    return f"{what}: run [{run_id}](#/experiments/{experiment_id}/runs/{run_id})"

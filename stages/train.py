@@ -32,7 +32,7 @@ def command(
     """Train trajectory -> force GRUs with DILATE (and MSE for comparison); log to MLflow."""
 
     from ftfof.report.figures import loss_figure, prediction_figure
-    from stages.surrogates import read_dataset
+    from stages.surrogates import models_digest, read_dataset
 
     params = load(params_path)
     cfg = params.train
@@ -62,7 +62,7 @@ def command(
     for fig, path in ((loss_fig, loss_plot), (pred_fig, pred_plot)):
         with atomic_path(path) as tmp:
             fig.savefig(tmp, format="png", dpi=100)
-    _track(params, results, data, summary, (loss_plot, pred_plot))
+    _track(params, results, data, summary, (loss_plot, pred_plot), models_digest(out))
     for r in results:
         m = r["metrics"]
         console.print(
@@ -150,7 +150,9 @@ def _write_models(out: Path, results: list[dict], data, cfg) -> None:
         (tmp / "config.json").write_text(json.dumps(config, indent=2, sort_keys=True) + "\n")
 
 
-def _track(params, results: list[dict], data, summary: dict, figures: tuple[Path, ...]) -> None:
+def _track(
+    params, results: list[dict], data, summary: dict, figures: tuple[Path, ...], digest: str
+) -> None:
     """One parent run per invocation, a child per model and loss."""
     import numpy as np
     import torch
@@ -162,6 +164,7 @@ def _track(params, results: list[dict], data, summary: dict, figures: tuple[Path
     from mlflow.models import infer_signature
 
     tags = tracking.tags("train")
+    parent_tags = {**tags, tracking.MODELS_DIGEST_TAG: digest}
     cfg = params.train
     example = data.inputs("validation")[:1]
     requirements = [
@@ -177,7 +180,7 @@ def _track(params, results: list[dict], data, summary: dict, figures: tuple[Path
         "dataset_digest": data.metadata_digest,
     }
     flat = tracking.flatten(settings)
-    with mlflow.start_run(run_name="train", tags=tags):
+    with mlflow.start_run(run_name="train", tags=parent_tags):
         mlflow.log_params(flat)
         mlflow.log_metric("wall_seconds", summary["wall_seconds"])
         for path in figures:

@@ -1,4 +1,4 @@
-"""Shared fixtures: the repository's own params.yaml and the two robots' resolved policies."""
+"""Shared fixtures: params.yaml, the two robots' resolved policies, a trained tiny surrogate."""
 
 from __future__ import annotations
 
@@ -6,10 +6,13 @@ import copy
 from pathlib import Path
 
 import numpy as np
+import pyarrow.parquet as pq
 import pytest
 import yaml
+from typer.testing import CliRunner
 
 from ftfof.config import Params
+from stages.cli import app
 from stages.robot import RobotContext, robot_context
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -55,3 +58,54 @@ def mst_q(raw_params: dict) -> RobotContext:
 def write_params(path: Path, data: dict) -> Path:
     path.write_text(yaml.safe_dump(data, sort_keys=False))
     return path
+
+
+@pytest.fixture(scope="session")
+def trained(tmp_path_factory, raw_params):
+    """A tiny dataset and the four trained models, MLflow store beside them."""
+    tmp = tmp_path_factory.mktemp("train")
+    data = dict(raw_params)
+    data["dataset"] = {**raw_params["dataset"], "seq_len": 24}
+    data["train"] = {**raw_params["train"], "hidden": 6, "epochs": 2, "batch": 16}
+    params = write_params(tmp / "params.yaml", data)
+    (tmp / "acq").mkdir()
+    from tests.data.fake import fake_acquisition
+
+    pq.write_table(fake_acquisition(30, failed=0), tmp / "acq" / "samples.parquet")
+    ds = [
+        "dataset",
+        "-p",
+        str(params),
+        "--acquisition",
+        str(tmp / "acq"),
+        "--imported",
+        str(tmp / "x"),
+        "--out",
+        str(tmp / "ds"),
+        "--metrics",
+        str(tmp / "ds.json"),
+        "--plot",
+        str(tmp / "ds.png"),
+    ]
+    assert CliRunner().invoke(app, ds).exit_code == 0
+    uri = f"sqlite:///{tmp / 'mlflow.db'}"
+    args = [
+        "train",
+        "-p",
+        str(params),
+        "--dataset",
+        str(tmp / "ds"),
+        "--out",
+        str(tmp / "models"),
+        "--metrics",
+        str(tmp / "m.json"),
+        "--loss-plot",
+        str(tmp / "loss.png"),
+        "--pred-plot",
+        str(tmp / "pred.png"),
+    ]
+    result = CliRunner().invoke(
+        app, args, env={"MLFLOW_TRACKING_URI": uri, "DVC_EXP_NAME": "test-exp"}
+    )
+    assert result.exit_code == 0, result.stderr
+    return tmp, uri, data

@@ -12,8 +12,6 @@ from pathlib import Path
 
 import pytest
 
-from tests.stages.test_train_stage import trained  # noqa: F401 - the fixture that trains
-
 pytestmark = pytest.mark.slow
 
 
@@ -30,7 +28,7 @@ def _call(url: str, body: dict | None = None) -> dict:
         return json.loads(resp.read())
 
 
-def test_mlflow_ui_serves_the_runs_and_a_metric_history(trained):  # noqa: F811
+def test_mlflow_ui_serves_the_runs_and_a_metric_history(trained):
     tmp, uri, _ = trained
     port = _port()
     mlflow = str(Path(sys.executable).parent / "mlflow")

@@ -4,6 +4,8 @@ import numpy as np
 import pytest
 
 from ftfof.objectives import (
+    STRATEGIES,
+    Evidence,
     fs1_max_detachment,
     fs2_mean_detachment,
     fs3_pre_pressure_error,
@@ -11,6 +13,7 @@ from ftfof.objectives import (
     fs5_adhesion_path_length,
     fs6_bending,
     fs7_jitter,
+    strategy_values,
 )
 
 
@@ -86,3 +89,35 @@ def test_fs7_is_zero_for_a_smooth_force_and_positive_for_a_snap():
 
 def test_fs7_of_a_constant_series_is_zero():
     assert fs7_jitter(np.ones((1, 50)), 0.01)[0] == 0.0
+
+
+def _evidence(pop: int = 3) -> Evidence:
+    rng = np.random.default_rng(0)
+    t = np.linspace(0.0, 1.0, 51)
+    position = np.cumsum(rng.random((pop, t.size, 2)), axis=1) * 1e-3
+    return Evidence(
+        Fd=rng.random((pop, 40)),
+        Fp=rng.random((pop, 40)) * 6,
+        dt=0.01,
+        position=position,
+        velocity=np.gradient(position, t, axis=1),
+        t=t,
+        adhesion=(0.6, 1.0),
+        pre_pressure=5.0,
+    )
+
+
+def test_strategy_values_stack_the_named_functions_in_the_given_order():
+    e = _evidence()
+    values = strategy_values(["fs3", "fs1", "fs7", "fs5"], e)
+    assert values.shape == (3, 4)
+    np.testing.assert_array_equal(values[:, 0], fs3_pre_pressure_error(e.Fp, 5.0))
+    np.testing.assert_array_equal(values[:, 1], fs1_max_detachment(e.Fd))
+    np.testing.assert_array_equal(values[:, 2], fs7_jitter(e.Fd, 0.01))
+    np.testing.assert_array_equal(values[:, 3], fs5_adhesion_path_length(e.velocity, e.t, 0.6, 1.0))
+    assert set(STRATEGIES) == {f"fs{i}" for i in range(1, 8)}
+
+
+def test_unknown_strategy_is_named():
+    with pytest.raises(ValueError, match="fs9"):
+        strategy_values(["fs1", "fs9"], _evidence())

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 from numpy.typing import NDArray
@@ -48,6 +49,7 @@ class Constraint:
     name: str
     violation: Callable[[_Context], Array]
     sampled: bool = False  # needs the sampled trajectory (costly) rather than control points
+    box: bool = False  # a plain bound on one free variable (an optimiser's box enforces it)
 
 
 @dataclass
@@ -66,6 +68,21 @@ class _Context:
         if self._samples is None:
             self._samples = self.sampler(self.X)
         return self._samples
+
+    @cached_property
+    def extremes(self) -> dict[str, Array]:
+        """Per-row extremes of the sampled path, each (pop, 2): one pass shared by every rule."""
+        pos, vel = self.samples.position, self.samples.velocity
+        dims = range(pos.shape[-1])  # per component: each is contiguous in time
+
+        def per_axis(reduce: Callable[[Array], Array], A: Array) -> Array:
+            return np.column_stack([reduce(A[..., k]) for k in dims])
+
+        return {
+            "position_max": per_axis(lambda a: a.max(axis=-1), pos),
+            "position_min": per_axis(lambda a: a.min(axis=-1), pos),
+            "speed_max": per_axis(lambda a: np.maximum(a.max(axis=-1), -a.min(axis=-1)), vel),
+        }
 
 
 @dataclass(frozen=True)
@@ -259,8 +276,8 @@ class ConstraintPolicy:
         }
         for var, (lo, hi) in self.variable_bounds().items():
             lo_kind = "min_detachment" if lo.rule in ("ld < P5x", "hd < P5z") else kind_of[var[:-1]]
-            out.append(Constraint(lo_kind, lo.rule, _lower(var, lo.value)))
-            out.append(Constraint(kind_of[var[:-1]], hi.rule, _upper(var, hi.value)))
+            out.append(Constraint(lo_kind, lo.rule, _lower(var, lo.value), box=True))
+            out.append(Constraint(kind_of[var[:-1]], hi.rule, _upper(var, hi.value), box=True))
         out += self._relational(r)
         out += self._sampled()
         return tuple(out)
@@ -307,27 +324,24 @@ class ConstraintPolicy:
         tol = self.feasibility.position_tolerance
         floor = np.where(self.t > self.timing.T2, -self.robot.shape.press_depth, self.p0[1])
 
-        def extreme(kind: str, reduce, sign: float, limit) -> Callable[[_Context], Array]:
-            get = (lambda c: c.samples.velocity) if kind == "v" else (lambda c: c.samples.position)
-            return lambda c: reduce(sign * get(c)) - limit
-
-        def axis(i: int):
-            return lambda A: np.max(A[..., i], axis=1)
-
-        def speed(i: int):
-            return lambda A: np.max(np.abs(A[..., i]), axis=1)
+        def extreme(key: str, axis: int, sign: float, limit: float) -> Callable[[_Context], Array]:
+            return lambda c: sign * c.extremes[key][:, axis] - limit
 
         rules = [
-            ("position_limit", "trajectory x <= Pplx", extreme("p", axis(0), 1, pplx + tol)),
-            ("position_limit", "trajectory z <= Pplz", extreme("p", axis(1), 1, pplz + tol)),
-            ("position_limit", "trajectory x >= P0x", extreme("p", axis(0), -1, tol - self.p0[0])),
+            ("position_limit", "trajectory x <= Pplx", extreme("position_max", 0, 1, pplx + tol)),
+            ("position_limit", "trajectory z <= Pplz", extreme("position_max", 1, 1, pplz + tol)),
+            (
+                "position_limit",
+                "trajectory x >= P0x",
+                extreme("position_min", 0, -1, tol - self.p0[0]),
+            ),
             (
                 "position_limit",
                 "trajectory z >= wall (or -press_depth while adhering)",
                 lambda c: np.max(floor - c.samples.position[..., 1], axis=1) - tol,
             ),
-            ("velocity_limit", "|vx| <= Vplx", extreme("v", speed(0), 1, vplx)),
-            ("velocity_limit", "|vz| <= Vplz", extreme("v", speed(1), 1, vplz)),
+            ("velocity_limit", "|vx| <= Vplx", extreme("speed_max", 0, 1, vplx)),
+            ("velocity_limit", "|vz| <= Vplz", extreme("speed_max", 1, 1, vplz)),
             (
                 "bending",
                 "fs6 = 0",
@@ -339,10 +353,19 @@ class ConstraintPolicy:
         ]
         return [Constraint(kind, name, fn, sampled=True) for kind, name, fn in rules]
 
-    def check(self, X: Array) -> FeasibilityReport:
-        """Every constraint on every row of ``X`` (pop, 12)."""
-        ctx = _Context(np.atleast_2d(np.asarray(X, dtype=float)), self.sample)
-        return self._report(np.column_stack([c.violation(ctx) for c in self.constraints]))
+    def check(
+        self,
+        X: Array,
+        samples: Samples | None = None,
+        constraints: tuple[Constraint, ...] | None = None,
+    ) -> FeasibilityReport:
+        """Every constraint (or the given ones) on every row of ``X`` (pop, 12).
+
+        ``samples`` may pass the trajectory already sampled on the policy grid, saving a pass.
+        """
+        ctx = _Context(np.atleast_2d(np.asarray(X, dtype=float)), self.sample, samples)
+        rules = self.constraints if constraints is None else constraints
+        return _report(rules, np.column_stack([c.violation(ctx) for c in rules]))
 
     def screen(self, X: Array, chunk: int = 8192) -> FeasibilityReport:
         """Like :meth:`check`, but the sampled-trajectory rules run only on rows that pass the
@@ -360,12 +383,11 @@ class ConstraintPolicy:
             V[np.ix_(rows, costly)] = np.column_stack(
                 [self.constraints[j].violation(sub) for j in costly]
             )
-        return self._report(V)
+        return _report(self.constraints, V)
 
-    def _report(self, V: Array) -> FeasibilityReport:
-        return FeasibilityReport(
-            tuple(c.name for c in self.constraints), tuple(c.kind for c in self.constraints), V
-        )
+
+def _report(rules: tuple[Constraint, ...], V: Array) -> FeasibilityReport:
+    return FeasibilityReport(tuple(c.name for c in rules), tuple(c.kind for c in rules), V)
 
 
 def _lower(var: str, value: float) -> Callable[[_Context], Array]:

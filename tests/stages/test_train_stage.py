@@ -2,63 +2,9 @@
 
 import json
 
-import pyarrow.parquet as pq
-import pytest
 import torch
-from typer.testing import CliRunner
 
-from stages.cli import app
 from stages.surrogates import load_surrogate
-from tests.conftest import write_params
-from tests.data.fake import fake_acquisition
-
-runner = CliRunner()
-
-
-@pytest.fixture(scope="module")
-def trained(tmp_path_factory, raw_params):
-    tmp = tmp_path_factory.mktemp("train")
-    data = dict(raw_params)
-    data["dataset"] = {**raw_params["dataset"], "seq_len": 24}
-    data["train"] = {**raw_params["train"], "hidden": 6, "epochs": 2, "batch": 16}
-    params = write_params(tmp / "params.yaml", data)
-    (tmp / "acq").mkdir()
-    pq.write_table(fake_acquisition(30, failed=0), tmp / "acq" / "samples.parquet")
-    ds = [
-        "dataset",
-        "-p",
-        str(params),
-        "--acquisition",
-        str(tmp / "acq"),
-        "--imported",
-        str(tmp / "x"),
-        "--out",
-        str(tmp / "ds"),
-        "--metrics",
-        str(tmp / "ds.json"),
-        "--plot",
-        str(tmp / "ds.png"),
-    ]
-    assert runner.invoke(app, ds).exit_code == 0
-    uri = f"sqlite:///{tmp / 'mlflow.db'}"
-    args = [
-        "train",
-        "-p",
-        str(params),
-        "--dataset",
-        str(tmp / "ds"),
-        "--out",
-        str(tmp / "models"),
-        "--metrics",
-        str(tmp / "m.json"),
-        "--loss-plot",
-        str(tmp / "loss.png"),
-        "--pred-plot",
-        str(tmp / "pred.png"),
-    ]
-    result = runner.invoke(app, args, env={"MLFLOW_TRACKING_URI": uri, "DVC_EXP_NAME": "test-exp"})
-    assert result.exit_code == 0, result.stderr
-    return tmp, uri, data
 
 
 def test_models_load_with_weights_only(trained):

@@ -1,0 +1,95 @@
+"""How well the surrogates' objectives predict the simulator's, over the re-simulated front.
+
+The simulated forces are binned onto the surrogates' time base exactly as the dataset bins its
+targets (maximum per bin), so predicted and simulated objectives measure the same thing.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.stats import spearmanr
+
+from ftfof.data.dataset import bin_max
+from ftfof.objectives import Evidence, strategy_values
+from ftfof.trajectory.policy import ConstraintPolicy
+
+Array = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class SimulatedForces:
+    """One simulation's sensor series, time from the trajectory start."""
+
+    t: Array
+    Fd: Array
+    Fp: Array
+
+
+@dataclass(frozen=True)
+class Fidelity:
+    objective: str
+    n: int
+    mean_abs_error: float
+    median_relative_error: float  # |predicted - simulated| / |simulated|, simulated != 0
+    spearman: float  # rank correlation; NaN with fewer than 3 points or a constant column
+
+    def as_dict(self) -> dict:
+        return {
+            "n": self.n,
+            "mean_abs_error": self.mean_abs_error,
+            "median_relative_error": self.median_relative_error,
+            "spearman": self.spearman,
+        }
+
+
+def simulated_objectives(
+    names: Sequence[str],
+    policy: ConstraintPolicy,
+    X: Array,
+    forces: Sequence[SimulatedForces],
+    force_t: Array,
+    hold: float,
+    pre_pressure: float,
+) -> Array:
+    """(n, len(names)) objectives of the decision rows ``X`` from their simulated forces."""
+    T3 = policy.timing.T3
+    n = len(force_t)
+    Fd = np.stack([bin_max(f.t, f.Fd, T3, hold, n) for f in forces])
+    Fp = np.stack([bin_max(f.t, f.Fp, T3, hold, n) for f in forces])
+    path = policy.sample(np.atleast_2d(X))
+    evidence = Evidence(
+        Fd=Fd,
+        Fp=Fp,
+        dt=float(force_t[1] - force_t[0]),
+        position=path.position,
+        velocity=path.velocity,
+        t=path.t,
+        adhesion=(policy.timing.T2, T3),
+        pre_pressure=pre_pressure,
+        min_step=policy.feasibility.min_step,
+    )
+    return strategy_values(names, evidence)
+
+
+def fidelity(names: Sequence[str], predicted: Array, simulated: Array) -> list[Fidelity]:
+    """Per objective: mean absolute error, median relative error and Spearman's rho."""
+    predicted, simulated = np.atleast_2d(predicted), np.atleast_2d(simulated)
+    if predicted.shape != simulated.shape or predicted.shape[1] != len(names):
+        raise ValueError(
+            f"predicted {predicted.shape} and simulated {simulated.shape} must both be "
+            f"(n, {len(names)})"
+        )
+    out = []
+    for j, name in enumerate(names):
+        p, s = predicted[:, j], simulated[:, j]
+        error = np.abs(p - s)
+        nonzero = np.abs(s) > 1e-12
+        relative = np.median(error[nonzero] / np.abs(s[nonzero])) if nonzero.any() else np.nan
+        varied = len(p) >= 3 and np.ptp(p) > 0 and np.ptp(s) > 0
+        rho = float(spearmanr(p, s).statistic) if varied else float("nan")
+        out.append(Fidelity(name, len(p), float(error.mean()), float(relative), rho))
+    return out

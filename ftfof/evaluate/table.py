@@ -1,0 +1,52 @@
+"""The Table I analogue: peak forces and body jitter per trajectory, % change against a reference.
+
+FTFOF Table I compares the optimum with the common trajectories on the platform; here every value
+comes from the simulator, never from the surrogates.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+# (column of the acquisition table, label, unit)
+PEAKS: tuple[tuple[str, str, str], ...] = (
+    ("peak_detachment", "max detachment force", "N"),
+    ("peak_pre_pressure", "max pre-pressure", "N"),
+    ("peak_body_acc", "max body jitter", "m/s²"),
+)
+
+
+@dataclass(frozen=True)
+class TableRow:
+    trajectory: str
+    values: dict[str, float]  # per PEAKS column
+    change: dict[str, float]  # % against the reference row (0 for the reference itself)
+
+
+def table_one(peaks: Mapping[str, Mapping[str, float]], reference: str) -> list[TableRow]:
+    """Rows in the given order; ``peaks[name][column]`` are the simulated figures."""
+    if reference not in peaks:
+        raise ValueError(f"reference trajectory {reference!r} is not among {sorted(peaks)}")
+    base = peaks[reference]
+    for column, label, _ in PEAKS:
+        value = base.get(column, np.nan)
+        if not np.isfinite(value) or value <= 0:
+            raise ValueError(f"{reference}: {label} is {value}; no % change can be taken from it")
+    rows = []
+    for name, row in peaks.items():
+        values = {c: float(row[c]) for c, _, _ in PEAKS}
+        change = {c: 100.0 * (values[c] - base[c]) / base[c] for c, _, _ in PEAKS}
+        rows.append(TableRow(name, values, change))
+    return rows
+
+
+# FTFOF Table I, measured on the MST-M3F platform (the paper's optimum under "optimal").
+PAPER_TABLE_I: dict[str, dict[str, float]] = {
+    "polynomial": {"peak_detachment": 7.49, "peak_pre_pressure": 5.41, "peak_body_acc": 327.27},
+    "cycloidal": {"peak_detachment": 7.24, "peak_pre_pressure": 5.21, "peak_body_acc": 285.22},
+    "random_bezier": {"peak_detachment": 6.11, "peak_pre_pressure": 5.85, "peak_body_acc": 141.30},
+    "optimal": {"peak_detachment": 5.40, "peak_pre_pressure": 5.85, "peak_body_acc": 58.41},
+}

@@ -1,0 +1,44 @@
+"""Surrogate fidelity: error and rank statistics, simulated objectives on the training bins."""
+
+import numpy as np
+import pytest
+
+from ftfof.data.dataset import time_base
+from ftfof.evaluate.fidelity import SimulatedForces, fidelity, simulated_objectives
+from ftfof.trajectory.sampling import sample_feasible
+
+
+def test_perfect_and_reversed_predictions():
+    s = np.array([[1.0, 5.0], [2.0, 4.0], [3.0, 3.0], [4.0, 2.0]])
+    exact = fidelity(["a", "b"], s, s)
+    assert [f.mean_abs_error for f in exact] == [0.0, 0.0]
+    assert [f.spearman for f in exact] == [pytest.approx(1.0), pytest.approx(1.0)]
+    reversed_ = fidelity(["a", "b"], s[::-1], s)
+    assert reversed_[0].spearman == pytest.approx(-1.0)
+    half = fidelity(["a", "b"], 1.5 * s, s)[0]
+    assert half.median_relative_error == pytest.approx(0.5)
+
+
+def test_constant_column_has_no_rank_correlation_and_shapes_are_checked():
+    s = np.ones((4, 1))
+    assert np.isnan(fidelity(["a"], s, s)[0].spearman)
+    with pytest.raises(ValueError, match="must both be"):
+        fidelity(["a", "b"], s, s)
+
+
+def test_simulated_objectives_bin_the_forces_like_the_dataset(m3f):
+    policy = m3f.policy
+    X = sample_feasible(policy, 2, seed=1).X
+    T3, hold = policy.timing.T3, 0.25
+    t = np.arange(-0.2, T3 + 0.3, 1e-3)  # the platform records before and after the step
+    peak_t = np.array([0.3 * T3, 0.6 * T3])
+    forces = [
+        SimulatedForces(
+            t, 4.0 * np.exp(-(((t - p) / 0.02) ** 2)), 5.2 * np.exp(-(((t - T3) / 0.05) ** 2))
+        )
+        for p in peak_t
+    ]
+    force_t = time_base(T3, hold, 64)
+    F = simulated_objectives(["fs1", "fs3"], policy, X, forces, force_t, hold, pre_pressure=5.0)
+    np.testing.assert_allclose(F[:, 0], 4.0, rtol=1e-3)  # bin maxima keep the peak
+    np.testing.assert_allclose(F[:, 1], 0.2, atol=1e-3)

@@ -1,0 +1,69 @@
+"""The pymoo problem: one batched evaluation whose constraints agree with the policy."""
+
+import numpy as np
+import pytest
+
+from ftfof.optimize.problem import TrajectoryProblem
+from ftfof.trajectory.sampling import sample_feasible
+
+
+def _problem(ctx, surrogate):
+    robot = ctx.robot
+    return TrajectoryProblem(ctx.policy, surrogate, robot.objectives, robot.pre_pressure)
+
+
+@pytest.fixture(params=["m3f", "mst_q"])
+def ctx(request):
+    return request.getfixturevalue(request.param)
+
+
+def test_shapes_and_box(ctx, surrogate):
+    problem = _problem(ctx, surrogate)
+    assert problem.n_var == ctx.policy.n_free
+    assert problem.n_obj == len(ctx.robot.objectives)
+    assert all(not c.box for c in problem.rules)
+    assert len(problem.rules) < len(ctx.policy.constraints)  # box rules are pymoo's bounds
+    free = ctx.policy.lower + np.random.default_rng(0).random((9, problem.n_var)) * (
+        ctx.policy.upper - ctx.policy.lower
+    )
+    out = problem.evaluate(free, return_as_dictionary=True)
+    assert out["F"].shape == (9, problem.n_obj) and out["G"].shape == (9, problem.n_ieq_constr)
+    assert np.all(np.isfinite(out["F"])) and np.all(np.isfinite(out["G"]))
+    result = problem.evaluate_population(free)
+    assert result.Fd.shape == result.Fp.shape == (9, surrogate.seq_len)
+    assert np.all(result.Fd >= 0) and np.all(result.Fp >= 0)
+
+
+def test_constraints_agree_with_the_policy(ctx, surrogate):
+    """Inside the box, G <= 0 exactly when the policy calls the trajectory feasible."""
+    problem = _problem(ctx, surrogate)
+    policy = ctx.policy
+    feasible = policy.contract(sample_feasible(policy, 20, seed=5).X)
+    rng = np.random.default_rng(1)
+    random = policy.lower + rng.random((80, problem.n_var)) * (policy.upper - policy.lower)
+    free = np.vstack([feasible, random])
+    G = problem.evaluate(free, return_as_dictionary=True)["G"]
+    expected = policy.check(policy.expand(free)).feasible
+    np.testing.assert_array_equal(np.all(G <= 0, axis=1), expected)
+    assert expected[:20].all() and not expected[20:].all()
+
+
+def test_ties_are_honoured_in_every_decision_vector(mst_q, surrogate):
+    problem = _problem(mst_q, surrogate)
+    free = mst_q.policy.lower + 0.3 * (mst_q.policy.upper - mst_q.policy.lower)
+    X = problem.evaluate_population(np.tile(free, (3, 1))).X
+    # mst_q (DESIGN §5): P10x = P11x = P12x and P3x = P4x = P5x = 0
+    # decision order (DESIGN §3): P3x, P4x, P5x, P10x, P11x, P12x, P3z, ...
+    np.testing.assert_array_equal(X[:, 3], X[:, 4])
+    np.testing.assert_array_equal(X[:, 3], X[:, 5])
+    np.testing.assert_array_equal(X[:, 0:3], 0.0)
+
+
+def test_objectives_follow_the_priority_order(m3f, surrogate):
+    problem = _problem(m3f, surrogate)
+    free = m3f.policy.contract(sample_feasible(m3f.policy, 4, seed=2).X)
+    F = problem.evaluate_population(free).F
+    reversed_problem = TrajectoryProblem(
+        m3f.policy, surrogate, m3f.robot.objectives[::-1], m3f.robot.pre_pressure
+    )
+    np.testing.assert_allclose(reversed_problem.evaluate_population(free).F, F[:, ::-1])

@@ -1,0 +1,132 @@
+"""Stage `evaluate`: a self-contained report, metrics, the controller CSV and an MLflow run."""
+
+import base64
+import copy
+import io
+import json
+import re
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+from PIL import Image
+from typer.testing import CliRunner
+
+from stages.cli import app
+from tests.conftest import write_params
+
+runner = CliRunner()
+TINY_OPTIMIZE = {"population": 12, "generations": 4, "log_every": 2, "recheck_samples": 512}
+
+
+@pytest.fixture(scope="module")
+def evaluated(trained, tmp_path_factory):
+    tmp, uri, data = trained
+    data = copy.deepcopy(data)
+    data["optimize"] = {**data["optimize"], **TINY_OPTIMIZE}
+    data["evaluate"] = {**data["evaluate"], "front_points": 2, "export_rate_hz": 200}
+    data["acquire"] = {**data["acquire"], "workers": 2}
+    work = tmp_path_factory.mktemp("evaluate")
+    params = write_params(work / "params.yaml", data)
+    figures = work / "figures"
+    figures.mkdir()
+    for name in ("loss", "pred"):
+        shutil.copy(
+            tmp / f"{name}.png", figures / f"train_{name}.png".replace("pred", "predictions")
+        )
+    optimize = [
+        "optimize", "-p", str(params), "--models", str(tmp / "models"),
+        "--out", str(work / "optimize"), "--metrics", str(work / "optimize.json"),
+        "--convergence", str(figures / "optimize_convergence.csv"),
+        "--star", str(figures / "optimize_star.png"), "--pcp", str(figures / "optimize_pcp.png"),
+    ]  # fmt: skip
+    env = {"MLFLOW_TRACKING_URI": uri}
+    result = runner.invoke(app, optimize, env=env)
+    assert result.exit_code == 0, result.output
+    evaluate = [
+        "evaluate", "-p", str(params), "--optimize", str(work / "optimize"),
+        "--models", str(tmp / "models"), "--figures", str(figures), "--out", str(work / "sims"),
+        "--report", str(work / "report.html"), "--metrics", str(work / "metrics.json"),
+        "--export", str(work / "optimum.csv"),
+    ]  # fmt: skip
+    result = runner.invoke(app, evaluate, env=env)
+    assert result.exit_code == 0, result.output
+    return work, uri, data, evaluate
+
+
+def test_report_is_self_contained_and_every_image_decodes(evaluated):
+    work, *_ = evaluated
+    html = (work / "report.html").read_text()
+    assert not re.search(r"(?:https?:)?//[a-z0-9.-]+\.[a-z]{2,}", html, re.I), "external URL"
+    sources = re.findall(r"""<img[^>]+src=["']([^"']+)["']""", html)
+    assert len(sources) == 9  # paths, forces, jitter, fidelity, 3 Pareto, 2 training
+    for src in sources:
+        assert src.startswith("data:image/png;base64,")
+        image = Image.open(io.BytesIO(base64.b64decode(src.split(",", 1)[1])))
+        image.verify()
+    assert not re.search(r"""(?:href|src)=["'](?!data:|#)""", html)
+    for name in ("polynomial", "cycloidal", "random_bezier", "eps_bezier", "optimum"):
+        assert f"<td>{name}</td>" in html
+
+
+def test_metrics_table_and_controller_export(evaluated):
+    work, *_ = evaluated
+    metrics = json.loads((work / "metrics.json").read_text())
+    table = metrics["table"]
+    assert set(table) == {"polynomial", "cycloidal", "random_bezier", "eps_bezier", "optimum"}
+    assert table["polynomial"]["peak_detachment_change"] == 0.0
+    for row in table.values():
+        assert row["peak_detachment"] > 0 and row["peak_body_acc"] > 0
+    assert metrics["fidelity_points"] == 3  # the optimum and two front members
+    assert {"fs1", "fs3", "fs7"} <= set(metrics["fidelity"])
+    csv = np.loadtxt(work / "optimum.csv", delimiter=",", skiprows=1)
+    header = (work / "optimum.csv").read_text().splitlines()[0]
+    assert header.startswith("t [s],x [m],z [m],vx [m/s],vz [m/s],q1 [rad]")
+    assert csv.shape[1] == 11 and np.allclose(np.diff(csv[:, 0]), 1 / 200)
+    assert metrics["export"]["rows"] == csv.shape[0]
+
+
+def test_mlflow_run_links_the_optimize_run(evaluated):
+    _, uri, _, _ = evaluated
+    import mlflow
+
+    client = mlflow.MlflowClient(tracking_uri=uri)
+    experiment = client.get_experiment_by_name("ftfof-mst_m3f")
+    (run,) = client.search_runs([experiment.experiment_id], "attributes.run_name = 'evaluate'")
+    source = client.get_run(run.data.tags["ftfof.optimize_run"])
+    assert source.info.run_name == "optimize"
+    assert source.data.tags["ftfof.optimum_digest"] == run.data.tags["ftfof.optimum_digest"]
+    assert "optimum.peak_detachment_change" in run.data.metrics
+    artifacts = {a.path for a in client.list_artifacts(run.info.run_id, "report")}
+    assert "report/report.html" in artifacts
+
+
+def test_an_optimum_of_another_robot_is_refused(evaluated):
+    work, uri, data, evaluate = evaluated
+    other = copy.deepcopy(data)
+    other["robot"] = "mst_q"
+    write_params(work / "params.yaml", other)
+    result = runner.invoke(app, evaluate, env={"MLFLOW_TRACKING_URI": uri})
+    write_params(work / "params.yaml", data)
+    assert result.exit_code != 0 and "params select 'mst_q'" in result.output
+
+
+@pytest.mark.slow
+def test_report_renders_in_headless_chromium(evaluated, tmp_path):
+    work, *_ = evaluated
+    shot = tmp_path / "report.png"
+    chromium = shutil.which("chromium") or "/usr/bin/chromium"
+    subprocess.run(
+        [
+            chromium, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
+            "--no-first-run", "--disable-background-networking", "--disable-component-update",
+            "--disable-sync", f"--user-data-dir={tmp_path / 'profile'}", "--window-size=1280,3000",
+            f"--screenshot={shot}", (work / "report.html").as_uri(),
+        ],
+        check=True, capture_output=True, timeout=120,
+    )  # fmt: skip
+    image = Image.open(shot)
+    assert image.size == (1280, 3000)
+    # a rendered page, not a blank one: the table and figures put many colours on it
+    assert len(image.convert("RGB").getcolors(maxcolors=1 << 20) or []) > 50

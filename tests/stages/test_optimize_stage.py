@@ -1,0 +1,127 @@
+"""Stage `optimize`: front and optimum written, the choice feasible on a fine grid, MLflow."""
+
+import copy
+import json
+
+import numpy as np
+import pyarrow.parquet as pq
+import pytest
+from typer.testing import CliRunner
+
+from ftfof.config import Params
+from ftfof.trajectory.bezier import DECISION_NAMES
+from stages.cli import app
+from stages.robot import robot_context
+from tests.conftest import write_params
+
+runner = CliRunner()
+TINY = {"population": 16, "generations": 6, "log_every": 2, "recheck_samples": 1024}
+
+
+def _optimize(tmp, uri, data, name):
+    params = write_params(tmp / f"{name}.yaml", data)
+    out = tmp / name
+    args = ["optimize", "-p", str(params), "--models", str(tmp / "models"), "--out", str(out)]
+    for option, file in (
+        ("--metrics", "optimize.json"),
+        ("--convergence", "convergence.csv"),
+        ("--star", "star.png"),
+        ("--pcp", "pcp.png"),
+    ):
+        args += [option, str(tmp / f"{name}_{file}")]
+    result = runner.invoke(app, args, env={"MLFLOW_TRACKING_URI": uri})
+    return result, out
+
+
+@pytest.fixture(scope="module", params=["mst_m3f", "mst_q"])
+def optimized(request, trained):
+    tmp, uri, data = trained
+    data = copy.deepcopy(data)
+    data["robot"] = request.param
+    data["optimize"] = {**data["optimize"], **TINY}
+    result, out = _optimize(tmp, uri, data, f"opt_{request.param}")
+    assert result.exit_code == 0, result.output
+    return tmp, uri, data, out, request.param
+
+
+def test_front_and_optimum_are_written(optimized):
+    tmp, _, data, out, robot = optimized
+    front = pq.read_table(out / "front.parquet").to_pandas()
+    optimum = json.loads((out / "optimum.json").read_text())
+    objectives = Params.model_validate(data).selected_robot.objectives
+    assert list(front.columns[1:13]) == list(DECISION_NAMES)
+    assert set(objectives) <= set(front.columns)
+    assert front["chosen"].sum() == 1 and front.loc[front["chosen"], "recheck_feasible"].all()
+    chosen = front[front["chosen"]].iloc[0]
+    assert int(chosen["row"]) == optimum["front_row"]
+    for name in DECISION_NAMES:
+        assert optimum["decision"][name] == pytest.approx(chosen[name])
+    assert len(optimum["control_points"]) == 16
+    assert max(optimum["recheck"]["violation"].values()) <= 0
+    assert len(optimum["predicted"]["Fd"]) == len(optimum["predicted"]["t"])
+    summary = json.loads((tmp / f"opt_{robot}_optimize.json").read_text())
+    assert summary["generations"] == TINY["generations"] and summary["robot"] == robot
+    csv = (tmp / f"opt_{robot}_convergence.csv").read_text().splitlines()
+    assert csv[0].startswith("generation,") and [r.split(",")[0] for r in csv[1:]] == [
+        "1",
+        "2",
+        "4",
+        "6",
+    ]
+    for png in ("star.png", "pcp.png", "convergence.png"):
+        assert (tmp / f"opt_{robot}_{png}").read_bytes()[:4] == b"\x89PNG"
+
+
+def test_optimum_is_feasible_for_an_independent_fine_check(optimized):
+    _, _, data, out, robot = optimized
+    params = Params.model_validate(data)
+    fine = Params.model_validate(
+        {**data, "feasibility": {**data["feasibility"], "n_t": 4 * TINY["recheck_samples"]}}
+    )
+    ctx = robot_context(fine)
+    optimum = json.loads((out / "optimum.json").read_text())
+    X = np.array([[optimum["decision"][n] for n in DECISION_NAMES]])
+    assert ctx.policy.check(X).feasible.all(), ctx.policy.check(X).failed(0)
+    if robot == "mst_q":  # DESIGN §5 ties
+        d = optimum["decision"]
+        assert d["P10x"] == d["P11x"] == d["P12x"]
+        assert d["P3x"] == d["P4x"] == d["P5x"] == 0.0
+    assert params.robot == robot
+
+
+def test_mlflow_run_links_the_surrogates_and_logs_convergence(optimized):
+    _, uri, _, _, robot = optimized
+    import mlflow
+
+    client = mlflow.MlflowClient(tracking_uri=uri)
+    experiment = client.get_experiment_by_name(f"ftfof-{robot}")
+    size = TINY["population"]
+    mine = f"attributes.run_name = 'optimize' AND params.`optimize.population` = '{size}'"
+    runs = client.search_runs([experiment.experiment_id], mine)  # the store is shared with others
+    assert len(runs) == 1
+    run = runs[0]
+    assert run.info.status == "FINISHED"
+    history = client.get_metric_history(run.info.run_id, "hypervolume")
+    assert [m.step for m in history] == [1, 2, 4, 6]
+    assert run.data.params["optimize.population"] == str(TINY["population"])
+    figures = {a.path for a in client.list_artifacts(run.info.run_id, "figures")}
+    assert {f"figures/opt_{robot}_star.png", f"figures/opt_{robot}_pcp.png"} <= figures
+    trained_here = client.search_runs(
+        [experiment.experiment_id], "attributes.run_name = 'train'"
+    )  # the fixture trained on mst_m3f only
+    if robot == "mst_m3f":
+        (train,) = trained_here
+        assert run.data.tags["ftfof.surrogate_run"] == train.info.run_id
+        assert train.info.run_id in run.data.tags["mlflow.note.content"]
+    else:
+        assert not trained_here and run.data.tags["ftfof.surrogate_run"] == "unknown"
+
+
+def test_a_failed_search_writes_nothing(trained):
+    tmp, uri, data = trained
+    data = copy.deepcopy(data)
+    data["optimize"] = {**data["optimize"], **TINY, "seeded_start": False, "generations": 1}
+    result, out = _optimize(tmp, uri, data, "opt_unseeded")
+    assert result.exit_code != 0
+    assert "no feasible trajectory" in result.output
+    assert not out.exists() and not (tmp / "opt_unseeded_optimize.json").exists()

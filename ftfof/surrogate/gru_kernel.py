@@ -98,8 +98,12 @@ def _advance(x, t, first, rows, w_ih_t, b_ih, w_hh_t, b_hh, h, gi, gh):  # pragm
 
 
 @numba.njit(parallel=True, **_KERNEL)
-def gru_layer(x, w_ih_t, b_ih, w_hh_t, b_hh, out):  # pragma: no cover - compiled
-    """Hidden states (B, T, H) of one layer from h0 = 0; x (B, T, I); weights transposed."""
+def gru_run(x, w_ih_t, b_ih, w_hh_t, b_hh, out, head_w, head_b, y, fused):  # pragma: no cover
+    """One layer from h0 = 0 over x (B, T, I), weights transposed.
+
+    ``fused``: only the linear head y (B, T) = head_w . h_t + head_b is written (the last layer);
+    otherwise the hidden states go to ``out`` (B, T, H) for the next layer.
+    """
     n_seq, steps, _ = x.shape
     width = b_hh.shape[0]
     hid = width // 3
@@ -112,28 +116,13 @@ def gru_layer(x, w_ih_t, b_ih, w_hh_t, b_hh, out):  # pragma: no cover - compile
         for t in range(steps):
             _advance(x, t, first, rows, w_ih_t, b_ih, w_hh_t, b_hh, h, gi, gh)
             for i in range(rows):
-                out[first + i, t, :] = h[i, :]
-
-
-@numba.njit(parallel=True, **_KERNEL)
-def gru_head(x, w_ih_t, b_ih, w_hh_t, b_hh, head_w, head_b, y):  # pragma: no cover - compiled
-    """The last layer with the linear head fused: y (B, T) = head_w . h_t + head_b."""
-    n_seq, steps, _ = x.shape
-    width = b_hh.shape[0]
-    hid = width // 3
-    for block in numba.prange((n_seq + BLOCK - 1) // BLOCK):
-        first = block * BLOCK
-        rows = min(BLOCK, n_seq - first)
-        h = np.zeros((BLOCK, hid), np.float32)
-        gi = np.empty((BLOCK, width), np.float32)
-        gh = np.empty((BLOCK, width), np.float32)
-        for t in range(steps):
-            _advance(x, t, first, rows, w_ih_t, b_ih, w_hh_t, b_hh, h, gi, gh)
-            for i in range(rows):
-                acc = head_b
-                for j in range(hid):
-                    acc += head_w[j] * h[i, j]
-                y[first + i, t] = acc
+                if fused:
+                    acc = head_b
+                    for j in range(hid):
+                        acc += head_w[j] * h[i, j]
+                    y[first + i, t] = acc
+                else:
+                    out[first + i, t, :] = h[i, :]
 
 
 @dataclass(frozen=True)
@@ -162,11 +151,15 @@ class Layer:
     def hidden_states(self, seq: NDArray[np.float32]) -> NDArray[np.float32]:
         """(B, T, inputs) -> (B, T, H)."""
         out = np.empty((*seq.shape[:2], self.hidden), np.float32)
-        gru_layer(seq, self.w_ih_t, self.b_ih, self.w_hh_t, self.b_hh, out)
+        unused_w, unused_y = np.zeros(self.hidden, np.float32), np.empty((1, 1), np.float32)
+        self._run(seq, out, unused_w, np.float32(0), unused_y, False)
         return out
 
     def head(self, seq: NDArray[np.float32], w: NDArray[np.float32], b: float) -> NDArray:
         """(B, T, inputs) -> (B, T) linear head over this layer's hidden states."""
         y = np.empty(seq.shape[:2], np.float32)
-        gru_head(seq, self.w_ih_t, self.b_ih, self.w_hh_t, self.b_hh, w, np.float32(b), y)
+        self._run(seq, np.empty((1, 1, 1), np.float32), w, np.float32(b), y, True)
         return y
+
+    def _run(self, seq, out, head_w, head_b, y, fused: bool) -> None:
+        gru_run(seq, self.w_ih_t, self.b_ih, self.w_hh_t, self.b_hh, out, head_w, head_b, y, fused)

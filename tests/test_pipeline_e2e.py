@@ -1,0 +1,102 @@
+"""The whole pipeline from a clean copy: `dvc repro` on the tiny profile, twice, and experiments.
+
+Slow (a few minutes): CI runs it with `-m slow`.
+"""
+
+import json
+
+import mlflow
+import pyarrow.parquet as pq
+import pytest
+import yaml
+
+from tests.pipeline import clone_to, run
+
+pytestmark = pytest.mark.slow
+
+STAGES = ("sample", "acquire", "dataset", "train", "optimize", "evaluate")
+REPRODUCIBLE = {
+    "sample": "data/trajectories.parquet",
+    "acquire": "data/acquisition",
+    "dataset": "data/dataset",
+    "train": "data/models",
+    "optimize": "data/optimize",
+}
+
+
+def _out_hashes(repo) -> dict[str, str]:
+    lock = yaml.safe_load((repo / "dvc.lock").read_text())["stages"]
+    return {
+        stage: next(o["md5"] for o in lock[stage]["outs"] if o["path"] == path)
+        for stage, path in REPRODUCIBLE.items()
+    }
+
+
+@pytest.fixture(scope="module")
+def repo(tmp_path_factory):
+    repo = clone_to(tmp_path_factory.mktemp("pipeline"))
+    run(repo, "python", "-m", "ftfof", "profile", "tiny")
+    run(repo, "git", "commit", "-q", "-am", "tiny profile")
+    run(repo, "dvc", "repro", timeout=600)
+    return repo
+
+
+def test_every_stage_wrote_its_outputs(repo):
+    assert pq.read_table(repo / "data/trajectories.parquet").num_rows == 40
+    acquisition = pq.read_table(repo / "data/acquisition/samples.parquet")
+    assert acquisition.num_rows == 44  # 40 sampled + 4 baselines
+    assert pq.read_table(repo / "data/dataset/samples.parquet").num_rows >= 42
+    assert {"Fd_dilate.pt", "Fp_dilate.pt", "config.json"} <= {
+        p.name for p in (repo / "data/models").iterdir()
+    }
+    optimum = json.loads((repo / "data/optimize/optimum.json").read_text())
+    assert max(optimum["recheck"]["violation"].values()) <= 0
+    metrics = json.loads((repo / "reports/metrics.json").read_text())
+    assert set(metrics["table"]) == {
+        "polynomial",
+        "cycloidal",
+        "random_bezier",
+        "eps_bezier",
+        "optimum",
+    }
+    html = (repo / "reports/evaluate.html").read_text()
+    assert "Table I analogue" in html and "http" not in html
+    assert (repo / "reports/optimum_trajectory.csv").read_text().startswith("t [s],")
+    status = run(repo, "dvc", "status")
+    assert "up to date" in status.stdout
+
+
+def test_mlflow_store_holds_every_tracked_stage(repo):
+    client = mlflow.MlflowClient(tracking_uri=f"sqlite:///{repo / 'mlflow.db'}")
+    experiment = client.get_experiment_by_name("ftfof-mst_m3f")
+    runs = client.search_runs([experiment.experiment_id])
+    names = {r.info.run_name for r in runs}
+    assert {"train", "optimize", "evaluate"} <= names
+    evaluate = next(r for r in runs if r.info.run_name == "evaluate")
+    optimize = client.get_run(evaluate.data.tags["ftfof.optimize_run"])
+    train = client.get_run(optimize.data.tags["ftfof.surrogate_run"])
+    assert train.info.run_name == "train"
+    assert all(r.data.tags["dvc.stage"] in STAGES for r in runs if "dvc.stage" in r.data.tags)
+
+
+def test_forced_rerun_reproduces_every_artefact(repo):
+    before = _out_hashes(repo)
+    run(repo, "dvc", "repro", "--force", timeout=600)
+    assert _out_hashes(repo) == before
+
+
+def test_experiments_over_robot_and_surface_compare(repo):
+    run(repo, "dvc", "exp", "run", "-n", "quad", "-S", "robot=mst_q", timeout=600)
+    run(repo, "dvc", "exp", "run", "-n", "glass", "-S", "surface=glass", timeout=600)
+    shown = json.loads(run(repo, "dvc", "exp", "show", "--json").stdout)
+    text = json.dumps(shown)
+    assert '"quad"' in text and '"glass"' in text
+    diff = json.loads(run(repo, "dvc", "metrics", "diff", "--json", "quad", "glass").stdout)
+    assert "table.optimum.peak_detachment" in diff["reports/metrics.json"]
+    run(repo, "dvc", "plots", "diff", "quad", "glass", "-o", "plots_html")
+    page = (repo / "plots_html/index.html").read_text()
+    assert "<img" in page and "http" not in page  # PNG plots, readable offline
+    client = mlflow.MlflowClient(tracking_uri=f"sqlite:///{repo / 'mlflow.db'}")
+    quad = client.get_experiment_by_name("ftfof-mst_q")
+    runs = client.search_runs([quad.experiment_id], "attributes.run_name = 'optimize'")
+    assert runs and runs[0].data.tags["dvc.exp_name"] == "quad"

@@ -53,11 +53,15 @@ def pipeline_env(repo: Path) -> dict[str, str]:
     return env
 
 
-def run(repo: Path, *args: str, timeout: float = 900) -> subprocess.CompletedProcess[str]:
+def run(
+    repo: Path, *args: str, timeout: float = 900, unset: tuple[str, ...] = ()
+) -> subprocess.CompletedProcess[str]:
+    """Run a command in ``repo`` and require success; ``unset`` drops variables from its env."""
+    env = {k: v for k, v in pipeline_env(repo).items() if k not in unset}
     result = subprocess.run(
         list(args),
         cwd=repo,
-        env=pipeline_env(repo),
+        env=env,
         capture_output=True,
         text=True,
         timeout=timeout,

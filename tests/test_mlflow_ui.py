@@ -70,8 +70,14 @@ def test_mlflow_ui_serves_the_runs_and_a_metric_history(trained):
         )
         exp_id = experiment["experiment"]["experiment_id"]
         runs = _call(f"{base}/api/2.0/mlflow/runs/search", {"experiment_ids": [exp_id]})["runs"]
-        names = sorted(r["info"]["run_name"] for r in runs)
-        assert names == ["Fd-dilate", "Fd-mse", "Fp-dilate", "Fp-mse", "train"]
+        names = sorted(r["info"]["run_name"] for r in runs)  # other stage tests share the store
+        assert [n for n in names if n not in ("optimize", "evaluate")] == [
+            "Fd-dilate",
+            "Fd-mse",
+            "Fp-dilate",
+            "Fp-mse",
+            "train",
+        ]
         child = next(r for r in runs if r["info"]["run_name"] == "Fd-dilate")
         history = _call(
             f"{base}/api/2.0/mlflow/metrics/get-history?run_id={child['info']['run_id']}&metric_key=validation_loss"

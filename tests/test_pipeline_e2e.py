@@ -86,8 +86,13 @@ def test_forced_rerun_reproduces_every_artefact(repo):
 
 
 def test_experiments_over_robot_and_surface_compare(repo):
-    run(repo, "dvc", "exp", "run", "-n", "quad", "-S", "robot=mst_q", timeout=600)
-    run(repo, "dvc", "exp", "run", "-n", "glass", "-S", "surface=glass", timeout=600)
+    # every setting named: `dvc exp run` leaves its params in the workspace for the next one
+    quad = ("-n", "quad", "-S", "robot=mst_q", "-S", "surface=acrylic")
+    run(repo, "dvc", "exp", "run", *quad, timeout=600)
+    # in a temporary copy under .dvc/tmp and with no MLFLOW_TRACKING_URI: the runs must still
+    # land in the repository's own store
+    glass = ("--temp", "-n", "glass", "-S", "robot=mst_m3f", "-S", "surface=glass")
+    run(repo, "dvc", "exp", "run", *glass, timeout=600, unset=("MLFLOW_TRACKING_URI",))
     shown = json.loads(run(repo, "dvc", "exp", "show", "--json").stdout)
     text = json.dumps(shown)
     assert '"quad"' in text and '"glass"' in text
@@ -98,5 +103,9 @@ def test_experiments_over_robot_and_surface_compare(repo):
     assert "<img" in page and "http" not in page  # PNG plots, readable offline
     client = mlflow.MlflowClient(tracking_uri=f"sqlite:///{repo / 'mlflow.db'}")
     quad = client.get_experiment_by_name("ftfof-mst_q")
-    runs = client.search_runs([quad.experiment_id], "attributes.run_name = 'optimize'")
-    assert runs and runs[0].data.tags["dvc.exp_name"] == "quad"
+    (run_q,) = client.search_runs([quad.experiment_id], "attributes.run_name = 'optimize'")
+    assert run_q.data.tags["dvc.exp_name"] == "quad"
+    m3f = client.get_experiment_by_name("ftfof-mst_m3f")
+    on_glass = client.search_runs([m3f.experiment_id], "tags.`dvc.exp_name` = 'glass'")
+    assert {r.info.run_name for r in on_glass} >= {"optimize", "evaluate"}
+    assert all(r.data.params.get("surface", "glass") == "glass" for r in on_glass)

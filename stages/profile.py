@@ -35,11 +35,16 @@ def command(
         raise ParamsError(str(source), f"no such profile (have {', '.join(have) or 'none'})")
     yaml = YAML()
     yaml.preserve_quotes = True
+    yaml.width = 4096  # never re-wrap the user's lines
+    yaml.representer.add_representer(
+        type(None), lambda r, _: r.represent_scalar("tag:yaml.org,2002:null", "null")
+    )
     try:
         overlay = yaml.load(source.read_text())
         document = yaml.load(params_path.read_text())
     except YAMLError as err:
         raise ParamsError(str(source), f"not valid YAML ({str(err).splitlines()[0]})") from None
+    _keep_anchors(document)
     changed = _merge(document, overlay or {}, "")
     parse_params(_plain(document), str(params_path))
     buffer = io.StringIO()
@@ -64,6 +69,19 @@ def _merge(target: Any, overlay: dict, prefix: str) -> list[str]:
             target[key] = value
             changed.append(f"{path}={value}")
     return changed
+
+
+def _keep_anchors(node: Any) -> None:
+    """ruamel drops anchors nothing refers to yet; params.yaml keeps them for new presets."""
+    anchor = getattr(node, "anchor", None)
+    if anchor is not None and anchor.value:
+        anchor.always_dump = True
+    if isinstance(node, dict):
+        for value in node.values():
+            _keep_anchors(value)
+    elif isinstance(node, list):
+        for value in node:
+            _keep_anchors(value)
 
 
 def _plain(node: Any) -> Any:

@@ -130,3 +130,21 @@ def test_report_renders_in_headless_chromium(evaluated, tmp_path):
     assert image.size == (1280, 3000)
     # a rendered page, not a blank one: the table and figures put many colours on it
     assert len(image.convert("RGB").getcolors(maxcolors=1 << 20) or []) > 50
+
+
+def test_missing_figure_and_other_models_are_refused_before_simulating(evaluated, tmp_path):
+    _, uri, _, evaluate = evaluated
+    env = {"MLFLOW_TRACKING_URI": uri}
+    empty = tmp_path / "figures"
+    empty.mkdir()
+    args = [*evaluate, "--figures", str(empty), "--out", str(tmp_path / "sims")]
+    result = runner.invoke(app, args, env=env)
+    assert result.exit_code != 0 and "optimize_star.png" in result.output
+    models = tmp_path / "models"
+    shutil.copytree(evaluate[evaluate.index("--models") + 1], models)
+    config = models / "config.json"
+    config.write_text(config.read_text() + "\n")
+    args = [*evaluate, "--models", str(models), "--out", str(tmp_path / "sims")]
+    result = runner.invoke(app, args, env=env)
+    assert result.exit_code != 0 and "other models" in result.output
+    assert not (tmp_path / "sims").exists()  # refused before any simulation

@@ -1,0 +1,64 @@
+"""`ftfof profile`: overlays a profile on params.yaml, keeps comments, refuses bad profiles."""
+
+import shutil
+
+import yaml
+from typer.testing import CliRunner
+
+from stages.cli import app
+from tests.conftest import ROOT
+
+runner = CliRunner()
+
+
+def _setup(tmp_path, profile_text: str | None = None):
+    params = tmp_path / "params.yaml"
+    shutil.copy(ROOT / "params.yaml", params)
+    profiles = tmp_path / "profiles"
+    shutil.copytree(ROOT / "profiles", profiles)
+    if profile_text is not None:
+        (profiles / "bad.yaml").write_text(profile_text)
+    return params, profiles
+
+
+def _apply(params, profiles, name):
+    return runner.invoke(app, ["profile", name, "-p", str(params), "--profiles", str(profiles)])
+
+
+def test_tiny_profile_sets_its_values_and_keeps_everything_else(tmp_path):
+    params, profiles = _setup(tmp_path)
+    before = yaml.safe_load(params.read_text())
+    result = _apply(params, profiles, "tiny")
+    assert result.exit_code == 0, result.output
+    after = yaml.safe_load(params.read_text())
+    tiny = yaml.safe_load((profiles / "tiny.yaml").read_text())
+    for section, values in tiny.items():
+        for key, value in values.items():
+            assert after[section][key] == value
+            before[section][key] = value
+    assert after == before  # nothing else changed
+    text = params.read_text()
+    assert "# FTFOF §VI.C" in text and "platform: &m3f_platform\n" in text  # comments, anchors
+    assert "scheduler: null" in text and max(map(len, text.splitlines())) > 95  # no re-wrap
+
+
+def test_unknown_profile_is_named(tmp_path):
+    params, profiles = _setup(tmp_path)
+    result = _apply(params, profiles, "huge")
+    assert result.exit_code != 0 and "no such profile" in result.output and "tiny" in result.output
+
+
+def test_invalid_profile_leaves_params_untouched(tmp_path):
+    params, profiles = _setup(tmp_path, "sample:\n  n: -5\n")
+    original = params.read_text()
+    result = _apply(params, profiles, "bad")
+    assert result.exit_code != 0 and "sample.n" in result.output
+    assert params.read_text() == original
+
+
+def test_profile_naming_a_missing_section_is_refused(tmp_path):
+    params, profiles = _setup(tmp_path, "sampel:\n  n: 5\n")
+    original = params.read_text()
+    result = _apply(params, profiles, "bad")
+    assert result.exit_code != 0 and "sampel" in result.output
+    assert params.read_text() == original

@@ -18,7 +18,7 @@ import typer
 from stages.common import ParamsOption, atomic_path, console, stage, write_json
 
 if TYPE_CHECKING:
-    import pyarrow as pa
+    import pandas as pd
 
     from ftfof.evaluate.export import ControllerTrajectory
     from ftfof.evaluate.fidelity import Fidelity
@@ -42,6 +42,7 @@ TRAINING = (
     ("train_predictions.png", "Validation predictions against simulation (cf. FTFOF Fig. 9)"),
 )
 OPTIMUM = "optimum"
+PLOTTED = ("t", "x_cmd", "z_cmd", "Fd", "Fp", "body_acc")  # channels the report's figures use
 
 
 @dataclass
@@ -49,7 +50,7 @@ class Inputs:
     """What `optimize` left: the chosen row and the front it came from, checked against params."""
 
     optimum: dict
-    front: pa.Table
+    front: pd.DataFrame  # indexed by front row
     objectives: list[str]
     digest: str
 
@@ -98,8 +99,7 @@ def command(
     summary = _metrics(params, inputs, rows, fidelity, controller, len(predicted))
     pictures.update(_simulation_figures(table, predicted, simulated, inputs.objectives))
     context = _context(params, ctx, inputs, rows, fidelity, summary, predicted, simulated)
-    context["figures"] = pictures
-    context["export"]["path"] = str(export)
+    context.update(figures=pictures, export_path=str(export))
     _write(controller, export, summary, metrics, context, report)
     _track(params, ctx.name, inputs, summary, (report, export, metrics))
     opt = summary["table"][OPTIMUM]
@@ -132,7 +132,8 @@ def _read_inputs(directory: Path, robot: str) -> Inputs:
             f"holds an optimum for {optimum.get('robot')!r} but params select {robot!r} "
             "(re-run `ftfof optimize`)",
         )
-    return Inputs(optimum, front, list(meta["objectives"]), optimum_digest(directory))
+    frame = front.to_pandas().set_index("row")
+    return Inputs(optimum, frame, list(meta["objectives"]), optimum_digest(directory))
 
 
 def _picture(path: Path) -> str:
@@ -149,20 +150,19 @@ def _picture(path: Path) -> str:
 
 def _front_sample(inputs: Inputs, k: int) -> list[int]:
     """``k`` front rows spread evenly along the priority-sorted front, the optimum left out."""
-    passing = np.asarray(inputs.front.column("recheck_feasible").to_pylist())
-    rows = np.asarray(inputs.front.column("row").to_pylist())[passing]
-    rows = rows[rows != inputs.optimum["front_row"]]
+    front = inputs.front
+    rows = front.index[front.recheck_feasible & (front.index != inputs.optimum["front_row"])]
+    rows = rows.to_numpy()
     if k == 0 or rows.size == 0:
         return []
     picks = np.unique(np.round(np.linspace(0, rows.size - 1, min(k, rows.size))).astype(int))
     return [int(r) for r in rows[picks]]
 
 
-def _decision(front: pa.Table, row: int) -> np.ndarray:
+def _decision(inputs: Inputs, row: int) -> np.ndarray:
     from ftfof.trajectory.bezier import DECISION_NAMES
 
-    index = front.column("row").to_pylist().index(row)
-    return np.array([front.column(n)[index].as_py() for n in DECISION_NAMES])
+    return inputs.front.loc[row, list(DECISION_NAMES)].to_numpy(dtype=float)
 
 
 def _job(params, ctx, out: Path, inputs: Inputs, front_rows: list[int]) -> Acquisition:
@@ -176,7 +176,7 @@ def _job(params, ctx, out: Path, inputs: Inputs, front_rows: list[int]) -> Acqui
     chosen = inputs.optimum["front_row"]
     specs, controls = [], {}
     for source, row in [(OPTIMUM, chosen), *(("front", r) for r in front_rows)]:
-        X = _decision(inputs.front, row)
+        X = _decision(inputs, row)
         spec = bench.bezier(source, row, X)
         specs.append(spec)
         controls[spec.key] = X
@@ -203,14 +203,16 @@ def _ok_rows(job: Acquisition, reference: str):
     return df[df.status == "ok"]
 
 
+def _compared(df) -> dict[str, object]:
+    """The baselines then the optimum, by display name: the rows of the table and the figures."""
+    sources = [s for s in df.source if s.startswith("baseline:")] + [OPTIMUM]
+    return {s.removeprefix("baseline:"): df[df.source == s].iloc[0] for s in sources}
+
+
 def _table_one(df, reference: str) -> list[TableRow]:
     from ftfof.evaluate.table import PEAKS, table_one
 
-    order = [s for s in df.source if s.startswith("baseline:")] + [OPTIMUM]
-    peaks = {}
-    for source in order:
-        row = df[df.source == source].iloc[0]
-        peaks[source.removeprefix("baseline:")] = {c: float(row[c]) for c, _, _ in PEAKS}
+    peaks = {name: {c: float(row[c]) for c, _, _ in PEAKS} for name, row in _compared(df).items()}
     return table_one(peaks, reference)
 
 
@@ -228,9 +230,7 @@ def _fidelity(inputs: Inputs, df, ctx, surrogate) -> tuple[list[Fidelity], np.nd
     names = inputs.objectives
     sims = df[df.source.isin([OPTIMUM, "front"])]
     sims = sims.assign(first=sims.source != OPTIMUM).sort_values(["first", "sample_id"])
-    front_rows = inputs.front.column("row").to_pylist()
-    F = np.column_stack([inputs.front.column(n).to_numpy() for n in names])
-    predicted = F[[front_rows.index(int(r)) for r in sims.sample_id]]
+    predicted = inputs.front.loc[sims.sample_id, names].to_numpy(dtype=float)
     X = sims[list(DECISION_NAMES)].to_numpy(dtype=float)
     simulated = simulated_objectives(
         names,
@@ -291,14 +291,10 @@ def _simulation_figures(df, predicted, simulated, objectives) -> dict[str, str]:
     from ftfof.report.evaluation import fidelity_figure, forces_figure, jitter_figure, paths_figure
     from ftfof.report.html import figure_data_uri
 
-    shown = [s for s in df.source if s.startswith("baseline:")] + [OPTIMUM]
-    channels = {}
-    for source in shown:
-        row = df[df.source == source].iloc[0]
-        channels[source.removeprefix("baseline:")] = {
-            c: np.asarray(row[c], dtype=float)
-            for c in ("t", "x_cmd", "z_cmd", "Fd", "Fp", "body_acc")
-        }
+    channels = {
+        name: {c: np.asarray(row[c], dtype=float) for c in PLOTTED}
+        for name, row in _compared(df).items()
+    }
     return {
         "paths": figure_data_uri(paths_figure(channels, OPTIMUM)),
         "forces": figure_data_uri(forces_figure(channels, OPTIMUM)),
@@ -308,7 +304,7 @@ def _simulation_figures(df, predicted, simulated, objectives) -> dict[str, str]:
 
 
 def _context(params, ctx, inputs, rows, fidelity, summary, predicted, simulated) -> dict:
-    """The report template's values (figures are added by the caller)."""
+    """The report template's values, but for the figures and the export path."""
     import exudyn
 
     from ftfof.evaluate.table import PEAKS
@@ -322,7 +318,7 @@ def _context(params, ctx, inputs, rows, fidelity, summary, predicted, simulated)
         "models_digest": inputs.optimum["models_digest"],
         "exudyn": exudyn.__version__,
         "optimum_row": inputs.optimum["front_row"],
-        "front_size": inputs.front.num_rows,
+        "front_size": len(inputs.front),
         "reference": params.evaluate.reference,
         "columns": [{"key": c, "label": label, "unit": unit} for c, label, unit in PEAKS],
         "table": [

@@ -24,7 +24,8 @@ def command(
     profiles: Annotated[Path, typer.Option(help="Directory of profiles.")] = PROFILES,
 ) -> None:
     """Apply a named profile of overrides to params.yaml (validated, comments kept)."""
-    from ruamel.yaml import YAML, YAMLError
+    import yaml as pyyaml
+    from ruamel.yaml import YAML
 
     from ftfof.errors import ParamsError
     from stages.params import parse_params
@@ -33,25 +34,36 @@ def command(
     if not source.exists():
         have = sorted(p.stem for p in profiles.glob("*.yaml"))
         raise ParamsError(str(source), f"no such profile (have {', '.join(have) or 'none'})")
-    yaml = YAML()
-    yaml.preserve_quotes = True
-    yaml.width = 4096  # never re-wrap the user's lines
-    yaml.representer.add_representer(
+    # Round trip ("rt") keeps params.yaml's comments and layout; like "safe" it builds only
+    # plain YAML types, never Python objects named by tags. The overlay needs no layout.
+    round_trip = YAML(typ="rt")
+    round_trip.preserve_quotes = True
+    round_trip.width = 4096  # never re-wrap the user's lines
+    round_trip.representer.add_representer(
         type(None), lambda r, _: r.represent_scalar("tag:yaml.org,2002:null", "null")
     )
-    try:
-        overlay = yaml.load(source.read_text())
-        document = yaml.load(params_path.read_text())
-    except YAMLError as err:
-        raise ParamsError(str(source), f"not valid YAML ({str(err).splitlines()[0]})") from None
+    overlay = _parse(YAML(typ="safe"), source)
+    document = _parse(round_trip, params_path)
     _keep_anchors(document)
     changed = _merge(document, overlay or {}, "")
-    parse_params(_plain(document), str(params_path))
     buffer = io.StringIO()
-    yaml.dump(document, buffer)
+    round_trip.dump(document, buffer)
+    text = buffer.getvalue()
+    parse_params(pyyaml.safe_load(text), str(params_path))  # exactly what will be written
     with atomic_path(params_path) as tmp:
-        tmp.write_text(buffer.getvalue())
+        tmp.write_text(text)
     console.print(f"profile {name}: {', '.join(changed)} -> {params_path}")
+
+
+def _parse(loader: Any, path: Path) -> Any:
+    from ruamel.yaml import YAMLError
+
+    from ftfof.errors import ParamsError
+
+    try:
+        return loader.load(path.read_text())
+    except YAMLError as err:
+        raise ParamsError(str(path), f"not valid YAML ({str(err).splitlines()[0]})") from None
 
 
 def _merge(target: Any, overlay: dict, prefix: str) -> list[str]:
@@ -82,11 +94,3 @@ def _keep_anchors(node: Any) -> None:
     elif isinstance(node, list):
         for value in node:
             _keep_anchors(value)
-
-
-def _plain(node: Any) -> Any:
-    if isinstance(node, dict):
-        return {str(k): _plain(v) for k, v in node.items()}
-    if isinstance(node, list):
-        return [_plain(v) for v in node]
-    return node

@@ -55,9 +55,29 @@ def mst_q(raw_params: dict) -> RobotContext:
     return _context(raw_params, "mst_q")
 
 
+def cli_args(command: str, params: Path | None = None, **options: object) -> list[str]:
+    """`ftfof <command> [-p params] --an-option value ...` from keywords (underscores -> dashes)."""
+    args = [command, *(["-p", str(params)] if params is not None else [])]
+    for name, value in options.items():
+        args += [f"--{name.replace('_', '-')}", str(value)]
+    return args
+
+
 def write_params(path: Path, data: dict) -> Path:
     path.write_text(yaml.safe_dump(data, sort_keys=False))
     return path
+
+
+def dataset_args(tmp: Path, acq: Path, imported: Path | None = None, params=None) -> list[str]:
+    return cli_args(
+        "dataset",
+        params,
+        acquisition=acq,
+        imported=imported or tmp / "none",
+        out=tmp / "ds",
+        metrics=tmp / "ds.json",
+        plot=tmp / "ds.png",
+    )
 
 
 @pytest.fixture(scope="session")
@@ -72,38 +92,18 @@ def trained(tmp_path_factory, raw_params):
     from tests.data.fake import fake_acquisition
 
     pq.write_table(fake_acquisition(30, failed=0), tmp / "acq" / "samples.parquet")
-    ds = [
-        "dataset",
-        "-p",
-        str(params),
-        "--acquisition",
-        str(tmp / "acq"),
-        "--imported",
-        str(tmp / "x"),
-        "--out",
-        str(tmp / "ds"),
-        "--metrics",
-        str(tmp / "ds.json"),
-        "--plot",
-        str(tmp / "ds.png"),
-    ]
+    ds = dataset_args(tmp, tmp / "acq", params=params)
     assert CliRunner().invoke(app, ds).exit_code == 0
     uri = f"sqlite:///{tmp / 'mlflow.db'}"
-    args = [
+    args = cli_args(
         "train",
-        "-p",
-        str(params),
-        "--dataset",
-        str(tmp / "ds"),
-        "--out",
-        str(tmp / "models"),
-        "--metrics",
-        str(tmp / "m.json"),
-        "--loss-plot",
-        str(tmp / "loss.png"),
-        "--pred-plot",
-        str(tmp / "pred.png"),
-    ]
+        params,
+        dataset=tmp / "ds",
+        out=tmp / "models",
+        metrics=tmp / "m.json",
+        loss_plot=tmp / "loss.png",
+        pred_plot=tmp / "pred.png",
+    )
     result = CliRunner().invoke(
         app, args, env={"MLFLOW_TRACKING_URI": uri, "DVC_EXP_NAME": "test-exp"}
     )

@@ -9,7 +9,7 @@ import time
 import pyarrow.parquet as pq
 import pytest
 
-from tests.conftest import ROOT, write_params
+from tests.conftest import ROOT, cli_args, write_params
 from tests.pipeline import pipeline_env
 
 pytestmark = pytest.mark.slow
@@ -23,19 +23,14 @@ def _setup(tmp, raw_params):
     params = write_params(tmp / "params.yaml", data)
     traj = tmp / "traj.parquet"
     _ftfof(tmp, "sample", "-p", str(params), "--out", str(traj), "--metrics", str(tmp / "s.json"))
-    return [
+    return cli_args(
         "acquire",
-        "-p",
-        str(params),
-        "--trajectories",
-        str(traj),
-        "--out",
-        str(tmp / "acq"),
-        "--metrics",
-        str(tmp / "acq.json"),
-        "--timing",
-        str(tmp / "timing.csv"),
-    ]
+        params,
+        trajectories=traj,
+        out=tmp / "acq",
+        metrics=tmp / "acq.json",
+        timing=tmp / "timing.csv",
+    )
 
 
 def _ftfof(cwd, *args, **kw):

@@ -63,7 +63,7 @@ class SearchResult:
 
 
 class Convergence(Callback):
-    """Feasible count every generation; hypervolume of the feasible front every ``every``.
+    """Feasible count and hypervolume of the feasible front every ``every`` generations.
 
     Objectives are normalised by the range of the first generation, kept fixed so that the
     hypervolume of later generations is comparable with earlier ones.
@@ -87,10 +87,10 @@ class Convergence(Callback):
         pop = algorithm.pop
         if self.low is None:
             F = pop.get("F")
-            self.low = F.min(axis=0)
-            self.span = np.where(np.ptp(F, axis=0) > 0, np.ptp(F, axis=0), 1.0)
-        feasible = int(np.sum(pop.get("CV")[:, 0] <= 0))
+            span = np.ptp(F, axis=0)
+            self.low, self.span = F.min(axis=0), np.where(span > 0, span, 1.0)
         if gen == 1 or gen % self.every == 0 or gen == self.last:
+            feasible = int(np.sum(pop.get("CV")[:, 0] <= 0))  # a Python loop in pymoo: only here
             opt = algorithm.opt
             front = opt[opt.get("CV")[:, 0] <= 0].get("F") if len(opt) else np.empty((0, 1))
             record = ConvergenceRecord(

@@ -9,7 +9,7 @@ from typer.testing import CliRunner
 
 from ftfof.data.acquisition import ACQUISITION
 from stages.cli import app
-from tests.conftest import write_params
+from tests.conftest import cli_args, write_params
 
 runner = CliRunner()
 
@@ -29,19 +29,9 @@ def acquired(tmp_path_factory, raw_params):
         == 0
     )
     out, metrics = tmp / "acq", tmp / "acq.json"
-    args = [
-        "acquire",
-        "-p",
-        str(params),
-        "--trajectories",
-        str(traj),
-        "--out",
-        str(out),
-        "--metrics",
-        str(metrics),
-        "--timing",
-        str(tmp / "timing.csv"),
-    ]
+    args = cli_args(
+        "acquire", params, trajectories=traj, out=out, metrics=metrics, timing=tmp / "timing.csv"
+    )
     result = runner.invoke(app, args)
     assert result.exit_code == 0, result.stderr
     return tmp, params, traj, out, metrics, args

@@ -14,26 +14,11 @@ from ftfof.data.acquisition import to_table
 from ftfof.sim.pool import run_all
 from ftfof.trajectory.sampling import sample_feasible
 from stages.cli import app
+from tests.conftest import dataset_args
 from tests.data.fake import fake_acquisition
 from tests.sim.helpers import bench
 
 runner = CliRunner()
-
-
-def _dataset_args(tmp, acq, imported=None):
-    return [
-        "dataset",
-        "--acquisition",
-        str(acq),
-        "--imported",
-        str(imported or tmp / "none"),
-        "--out",
-        str(tmp / "ds"),
-        "--metrics",
-        str(tmp / "ds.json"),
-        "--plot",
-        str(tmp / "ds.png"),
-    ]
 
 
 @pytest.fixture(scope="module")
@@ -41,7 +26,7 @@ def built(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("ds")
     (tmp / "acq").mkdir()
     pq.write_table(fake_acquisition(40, failed=2), tmp / "acq" / "samples.parquet")
-    result = runner.invoke(app, _dataset_args(tmp, tmp / "acq"))
+    result = runner.invoke(app, dataset_args(tmp, tmp / "acq"))
     assert result.exit_code == 0, result.stderr
     return tmp
 
@@ -69,7 +54,7 @@ def test_train_and_validation_are_disjoint_85_15_and_stable(built, tmp_path):
     val = {k for k, s in split.items() if s == "validation"}
     assert not train & val
     assert abs(len(val) - 0.15 * (len(train) + len(val))) <= 1
-    again = runner.invoke(app, _dataset_args(tmp_path, built / "acq"))
+    again = runner.invoke(app, dataset_args(tmp_path, built / "acq"))
     assert again.exit_code == 0
     again_bytes = (tmp_path / "ds" / "samples.parquet").read_bytes()
     assert again_bytes == (built / "ds" / "samples.parquet").read_bytes()  # byte-identical
@@ -79,7 +64,7 @@ def test_a_truncated_acquisition_is_one_clear_error_and_leaves_nothing(built, tm
     (tmp_path / "acq").mkdir()
     good = (built / "acq" / "samples.parquet").read_bytes()
     (tmp_path / "acq" / "samples.parquet").write_bytes(good[: len(good) // 2])
-    result = runner.invoke(app, _dataset_args(tmp_path, tmp_path / "acq"))
+    result = runner.invoke(app, dataset_args(tmp_path, tmp_path / "acq"))
     assert result.exit_code == 1
     lines = result.stderr.strip().splitlines()
     assert len(lines) == 1 and "unreadable acquisition" in lines[0]
@@ -90,7 +75,7 @@ def test_a_schema_mismatched_acquisition_names_the_column(built, tmp_path):
     (tmp_path / "acq").mkdir()
     table = pq.read_table(built / "acq" / "samples.parquet")
     pq.write_table(table.drop_columns(["Fp"]), tmp_path / "acq" / "samples.parquet")
-    result = runner.invoke(app, _dataset_args(tmp_path, tmp_path / "acq"))
+    result = runner.invoke(app, dataset_args(tmp_path, tmp_path / "acq"))
     assert result.exit_code == 1
     assert "missing column 'Fp'" in result.stderr
     assert not (tmp_path / "ds").exists()

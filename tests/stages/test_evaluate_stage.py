@@ -14,7 +14,7 @@ from PIL import Image
 from typer.testing import CliRunner
 
 from stages.cli import app
-from tests.conftest import write_params
+from tests.conftest import cli_args, write_params
 
 runner = CliRunner()
 TINY_OPTIMIZE = {"population": 12, "generations": 4, "log_every": 2, "recheck_samples": 512}
@@ -31,25 +31,32 @@ def evaluated(trained, tmp_path_factory):
     params = write_params(work / "params.yaml", data)
     figures = work / "figures"
     figures.mkdir()
-    for name in ("loss", "pred"):
-        shutil.copy(
-            tmp / f"{name}.png", figures / f"train_{name}.png".replace("pred", "predictions")
-        )
-    optimize = [
-        "optimize", "-p", str(params), "--models", str(tmp / "models"),
-        "--out", str(work / "optimize"), "--metrics", str(work / "optimize.json"),
-        "--convergence", str(figures / "optimize_convergence.csv"),
-        "--star", str(figures / "optimize_star.png"), "--pcp", str(figures / "optimize_pcp.png"),
-    ]  # fmt: skip
+    for source, target in (("loss", "train_loss"), ("pred", "train_predictions")):
+        shutil.copy(tmp / f"{source}.png", figures / f"{target}.png")
+    optimize = cli_args(
+        "optimize",
+        params,
+        models=tmp / "models",
+        out=work / "optimize",
+        metrics=work / "optimize.json",
+        convergence=figures / "optimize_convergence.csv",
+        star=figures / "optimize_star.png",
+        pcp=figures / "optimize_pcp.png",
+    )
     env = {"MLFLOW_TRACKING_URI": uri}
     result = runner.invoke(app, optimize, env=env)
     assert result.exit_code == 0, result.output
-    evaluate = [
-        "evaluate", "-p", str(params), "--optimize", str(work / "optimize"),
-        "--models", str(tmp / "models"), "--figures", str(figures), "--out", str(work / "sims"),
-        "--report", str(work / "report.html"), "--metrics", str(work / "metrics.json"),
-        "--export", str(work / "optimum.csv"),
-    ]  # fmt: skip
+    evaluate = cli_args(
+        "evaluate",
+        params,
+        optimize=work / "optimize",
+        models=tmp / "models",
+        figures=figures,
+        out=work / "sims",
+        report=work / "report.html",
+        metrics=work / "metrics.json",
+        export=work / "optimum.csv",
+    )
     result = runner.invoke(app, evaluate, env=env)
     assert result.exit_code == 0, result.output
     return work, uri, data, evaluate

@@ -12,7 +12,7 @@ from ftfof.config import Params
 from ftfof.trajectory.bezier import DECISION_NAMES
 from stages.cli import app
 from stages.robot import robot_context
-from tests.conftest import write_params
+from tests.conftest import cli_args, write_params
 
 runner = CliRunner()
 TINY = {"population": 16, "generations": 6, "log_every": 2, "recheck_samples": 1024}
@@ -21,14 +21,16 @@ TINY = {"population": 16, "generations": 6, "log_every": 2, "recheck_samples": 1
 def _optimize(tmp, uri, data, name):
     params = write_params(tmp / f"{name}.yaml", data)
     out = tmp / name
-    args = ["optimize", "-p", str(params), "--models", str(tmp / "models"), "--out", str(out)]
-    for option, file in (
-        ("--metrics", "optimize.json"),
-        ("--convergence", "convergence.csv"),
-        ("--star", "star.png"),
-        ("--pcp", "pcp.png"),
-    ):
-        args += [option, str(tmp / f"{name}_{file}")]
+    args = cli_args(
+        "optimize",
+        params,
+        models=tmp / "models",
+        out=out,
+        metrics=tmp / f"{name}_optimize.json",
+        convergence=tmp / f"{name}_convergence.csv",
+        star=tmp / f"{name}_star.png",
+        pcp=tmp / f"{name}_pcp.png",
+    )
     result = runner.invoke(app, args, env={"MLFLOW_TRACKING_URI": uri})
     return result, out
 

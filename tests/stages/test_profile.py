@@ -2,6 +2,7 @@
 
 import shutil
 
+import pytest
 import yaml
 from typer.testing import CliRunner
 
@@ -48,17 +49,14 @@ def test_unknown_profile_is_named(tmp_path):
     assert result.exit_code != 0 and "no such profile" in result.output and "tiny" in result.output
 
 
-def test_invalid_profile_leaves_params_untouched(tmp_path):
-    params, profiles = _setup(tmp_path, "sample:\n  n: -5\n")
+@pytest.mark.parametrize(
+    ("profile", "named"),
+    [("sample:\n  n: -5\n", "sample.n"), ("sampel:\n  n: 5\n", "sampel")],
+    ids=["invalid value", "misspelt section"],
+)
+def test_bad_profile_is_named_and_leaves_params_untouched(tmp_path, profile, named):
+    params, profiles = _setup(tmp_path, profile)
     original = params.read_text()
     result = _apply(params, profiles, "bad")
-    assert result.exit_code != 0 and "sample.n" in result.output
-    assert params.read_text() == original
-
-
-def test_profile_naming_a_missing_section_is_refused(tmp_path):
-    params, profiles = _setup(tmp_path, "sampel:\n  n: 5\n")
-    original = params.read_text()
-    result = _apply(params, profiles, "bad")
-    assert result.exit_code != 0 and "sampel" in result.output
+    assert result.exit_code != 0 and named in result.output
     assert params.read_text() == original

@@ -16,7 +16,7 @@ from stages.cli import app
 from stages.robot import RobotContext, robot_context
 
 ROOT = Path(__file__).resolve().parents[1]
-SHARED = ROOT.parent / "shared"
+DATA = Path(__file__).resolve().parent / "data"
 
 # The paper's published MST-M3F optimum (FTFOF §VI.C), metres.
 PUBLISHED_M3F = np.array([2.3, 18.3, 31.4, 108.8, 123.7, 124.5, 23.6, 25.5, 29.0, 48.6, 30.5, 11.1])

@@ -8,9 +8,9 @@ import torch
 
 from ftfof.surrogate.dilate import dilate_loss, soft_alignment, soft_dtw
 from ftfof.surrogate.fastmath import exp_neg_array, log_1_3_array
-from tests.conftest import SHARED
+from tests.conftest import DATA
 
-CASES = SHARED / "testdata" / "dilate"
+CASES = DATA / "dilate"
 
 
 def _cases():

@@ -298,6 +298,8 @@ class Train(Strict):
     gamma: Positive = 0.01  # soft-DTW smoothing
     losses: Annotated[list[Literal["dilate", "mse"]], Field(min_length=1)] = ["dilate", "mse"]
     use: Literal["dilate", "mse"] = "dilate"  # the models the optimiser and report use
+    # MLflow registry alias train sets on the `use` pair; optimize loads models:/...@alias
+    alias: Annotated[str, Field(pattern=r"^[A-Za-z][A-Za-z0-9_-]*$")] = "champion"
     threads: Annotated[int, Field(ge=0)] = 0  # torch threads per model, 0 = all cores / models
     parallel: bool = True  # train the models side by side, one process each
     seed_offset: Annotated[int, Field(ge=0)] = 3

@@ -7,7 +7,6 @@ from typing import Annotated
 
 import typer
 
-from stages import tracking
 from stages.common import ParamsOption, atomic_dir, atomic_path, console, stage, write_json
 
 ACQUISITION = Path("data/acquisition")
@@ -60,7 +59,6 @@ def command(
         "surface": params.surface,
         "exudyn": sim_versions.get("exudyn", versions()["exudyn"]),
         "ftfof": versions()["ftfof"],
-        "git_commit": tracking.git_commit(),
         "seq_len": params.dataset.seq_len,
         "hold": params.dataset.hold,
         "normalization": json.loads(norm.to_json()),

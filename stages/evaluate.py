@@ -308,13 +308,11 @@ def _context(params, ctx, inputs, rows, fidelity, summary, predicted, simulated)
     import exudyn
 
     from ftfof.evaluate.table import PEAKS
-    from stages.tracking import git_commit
 
     export = summary["export"]
     return {
         "robot": ctx.name,
         "surface": params.surface,
-        "commit": git_commit()[:10],
         "models_digest": inputs.optimum["models_digest"],
         "exudyn": exudyn.__version__,
         "optimum_row": inputs.optimum["front_row"],

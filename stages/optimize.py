@@ -51,17 +51,22 @@ class Setup:
     settings: SearchSettings
     initial: np.ndarray | None  # free-variable rows, or None for pymoo's uniform start
     models_digest: str
+    registered: dict  # target -> RegisteredWeights: the model versions resolved by alias
 
 
 def prepare(params, models: Path) -> Setup:
     from ftfof.optimize.problem import TrajectoryProblem
     from ftfof.optimize.search import SearchSettings
+    from ftfof.pipeline.registry import fetch_pair
     from ftfof.trajectory.sampling import sample_feasible
+    from stages import tracking
     from stages.robot import robot_context
     from stages.surrogates import load_surrogate, models_digest
 
     ctx = robot_context(params)
-    surrogate = load_surrogate(models)
+    mlflow = tracking.setup(tracking.experiment_name(params.robot))
+    registered = fetch_pair(mlflow, params.robot, params.train.use, params.train.alias, models)
+    surrogate = load_surrogate(models, params.train.use, {t: w.path for t, w in registered.items()})
     cfg = params.optimize
     problem = TrajectoryProblem(ctx.policy, surrogate, ctx.robot.objectives, ctx.robot.pre_pressure)
     seed = params.base.seed + cfg.seed_offset
@@ -79,7 +84,7 @@ def prepare(params, models: Path) -> Setup:
         s = params.sample
         drawn = sample_feasible(ctx.policy, cfg.population, seed, s.design, s.batch, s.max_draws)
         initial = ctx.policy.contract(drawn.X)
-    return Setup(ctx, problem, settings, initial, models_digest(models))
+    return Setup(ctx, problem, settings, initial, models_digest(models), registered)
 
 
 @stage
@@ -366,6 +371,7 @@ class _Tracker:
             "objectives": ",".join(setup.ctx.robot.objectives),
             "free_variables": ",".join(setup.ctx.policy.free_names),
             "models_digest": digest,
+            "model": {t: w.uri for t, w in setup.registered.items()},
         }
         mlflow.log_params(tracking.flatten(settings))
         return self

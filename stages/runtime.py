@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import ctypes
 import ctypes.util
+import os
+import platform
+from collections.abc import MutableMapping
 
 _M_TRIM_THRESHOLD = -1
 _M_MMAP_THRESHOLD = -3
@@ -25,3 +28,23 @@ def tune_allocator(mmap_threshold: int = 64 << 20, trim_threshold: int = 256 << 
         return False
     ok = mallopt(_M_MMAP_THRESHOLD, mmap_threshold) == 1
     return ok and mallopt(_M_TRIM_THRESHOLD, trim_threshold) == 1
+
+
+# Numerical code paths pinned for every pipeline process, so that a model trained on one x86-64
+# machine is bit-identical to one trained on another. MKL otherwise picks its kernels by the host's
+# instruction set (AVX-512 and AVX2 give different GRU weights), and numba compiles for the host
+# CPU (FMA contraction and vector width follow it). AVX2 with FMA (Haswell, x86-64-v3) is the
+# level every x86-64 machine in use has.
+PINNED_X86_64 = {"MKL_CBWR": "AVX2", "NUMBA_CPU_NAME": "haswell", "NUMBA_CPU_FEATURES": ""}
+
+
+def pin_numerics(environ: MutableMapping[str, str] = os.environ) -> dict[str, str]:
+    """Set :data:`PINNED_X86_64` in ``environ`` (x86-64 only); returns what was set.
+
+    Must run before torch or numba is imported: both read these variables once, at load time.
+    Other architectures keep their native paths (their numbers may differ from x86-64's).
+    """
+    if platform.machine().lower() not in {"x86_64", "amd64"}:
+        return {}
+    environ.update(PINNED_X86_64)
+    return dict(PINNED_X86_64)

@@ -14,6 +14,7 @@ import pyarrow.parquet as pq
 
 from ftfof.data import dataset
 from ftfof.errors import DataError
+from ftfof.pipeline.digests import files_sha256
 from ftfof.surrogate.predict import GRUWeights, Surrogate
 from stages.common import read_table
 
@@ -76,8 +77,14 @@ def read_dataset(directory: Path) -> TrainingData:
     return TrainingData(table, norm, meta["seq_len"], meta["hold"], digest)
 
 
-def load_surrogate(directory: Path, loss: str | None = None) -> Surrogate:
-    """The trained Fd and Fp models of one loss (default: the config's ``use``)."""
+def load_surrogate(
+    directory: Path, loss: str | None = None, weights: dict[str, Path] | None = None
+) -> Surrogate:
+    """The trained Fd and Fp models of one loss (default: the config's ``use``).
+
+    ``weights`` replaces the state-dict files by target (the registry's copies, already checked
+    against ``directory``); normalisation and model config always come from ``directory``.
+    """
     import torch
 
     config_path = directory / "config.json"
@@ -85,15 +92,15 @@ def load_surrogate(directory: Path, loss: str | None = None) -> Surrogate:
         raise DataError(str(directory), "no trained models (run `ftfof train` first)")
     config = json.loads(config_path.read_text())
     loss = loss or config["use"]
-    weights = []
+    models = []
     for target in ("Fd", "Fp"):
-        path = directory / f"{target}_{loss}.pt"
+        path = (weights or {}).get(target) or directory / f"{target}_{loss}.pt"
         if not path.exists():
             raise DataError(str(path), f"missing model for {target} with the {loss} loss")
         state = torch.load(path, weights_only=True)
-        weights.append(GRUWeights.from_state({k: v.numpy() for k, v in state.items()}))
+        models.append(GRUWeights.from_state({k: v.numpy() for k, v in state.items()}))
     norm = dataset.Normalization.from_json((directory / "normalization.json").read_text())
-    return Surrogate(weights[0], weights[1], norm, config["seq_len"], config["hold"])
+    return Surrogate(models[0], models[1], norm, config["seq_len"], config["hold"])
 
 
 def models_digest(directory: Path) -> str:
@@ -104,7 +111,4 @@ def models_digest(directory: Path) -> str:
     """
     if not directory.is_dir():
         raise DataError(str(directory), "no trained models (run `ftfof train` first)")
-    h = hashlib.sha256()
-    for path in sorted(p for p in directory.iterdir() if p.is_file()):
-        h.update(path.name.encode() + b"\0" + path.read_bytes() + b"\0")
-    return h.hexdigest()[:16]
+    return files_sha256(p for p in directory.iterdir() if p.is_file())

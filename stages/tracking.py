@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import hashlib
 import os
 import subprocess
+import warnings
 from pathlib import Path
 
 from stages.common import repo_root
@@ -11,6 +13,7 @@ from stages.common import repo_root
 EXPERIMENT_PREFIX = "ftfof"
 MODELS_DIGEST_TAG = "ftfof.models_digest"  # on the train run that wrote data/models
 OPTIMUM_DIGEST_TAG = "ftfof.optimum_digest"  # on the optimize run that wrote data/optimize
+DATASET_SOURCE = "data/dataset/samples.parquet"  # the training data's path in the repository
 
 
 def project_root() -> Path:
@@ -33,6 +36,7 @@ def setup(experiment: str):
     """Import MLflow configured for this project (quietly) and select the experiment."""
     os.environ.setdefault("MLFLOW_DISABLE_TELEMETRY", "true")
     os.environ.setdefault("GIT_PYTHON_REFRESH", "quiet")
+    os.environ.setdefault("MLFLOW_ENABLE_ARTIFACTS_PROGRESS_BAR", "false")
     import logging
 
     import mlflow
@@ -55,8 +59,15 @@ def experiment_name(robot: str) -> str:
 
 
 def tags(stage: str) -> dict[str, str]:
-    """Provenance tags: git commit, DVC stage and experiment (set by `dvc exp run`)."""
-    out = {"dvc.stage": os.environ.get("DVC_STAGE", stage), "git.commit": git_commit()}
+    """Provenance tags: git commit, DVC stage and experiment (set by `dvc exp run`).
+
+    ``mlflow.source.name`` is the stage: MLflow would otherwise show ``__main__`` (``python -m``).
+    """
+    out = {
+        "dvc.stage": os.environ.get("DVC_STAGE", stage),
+        "git.commit": git_commit(),
+        "mlflow.source.name": stage,
+    }
     for env, key in (("DVC_EXP_NAME", "dvc.exp_name"), ("DVC_EXP_BASELINE_REV", "dvc.baseline")):
         if os.environ.get(env):
             out[key] = os.environ[env]
@@ -106,3 +117,16 @@ def link_note(mlflow, experiment: str, what: str, run_id: str) -> str:
     """Markdown for the run description: a link to another run of the same experiment."""
     experiment_id = mlflow.get_experiment_by_name(experiment).experiment_id
     return f"{what}: run [{run_id}](#/experiments/{experiment_id}/runs/{run_id})"
+
+
+def dataset_input(path: Path):
+    """The training dataset as an MLflow dataset input: its repository path as source and its
+    md5 (what DVC records for the file) as digest, so the run's Dataset column names the data."""
+    from mlflow.data.dataset_source_registry import resolve_dataset_source
+    from mlflow.data.meta_dataset import MetaDataset
+
+    digest = hashlib.md5(path.read_bytes()).hexdigest()
+    with warnings.catch_warnings():  # MLflow registers its local-file source twice
+        warnings.simplefilter("ignore", UserWarning)
+        source = resolve_dataset_source(DATASET_SOURCE)
+    return MetaDataset(source, name="ftfof-dataset", digest=digest)

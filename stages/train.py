@@ -10,6 +10,7 @@ from typing import Annotated
 
 import typer
 
+from ftfof.pipeline.registry import TARGETS
 from stages.common import ParamsOption, atomic_dir, atomic_path, console, stage, write_json
 
 DATASET = Path("data/dataset")
@@ -17,7 +18,6 @@ OUT = Path("data/models")
 METRICS = Path("reports/train_metrics.json")
 LOSS_PLOT = Path("reports/train_loss.png")
 PRED_PLOT = Path("reports/train_predictions.png")
-TARGETS = ("Fd", "Fp")
 
 
 @stage
@@ -32,7 +32,7 @@ def command(
     """Train trajectory -> force GRUs with DILATE (and MSE for comparison); log to MLflow."""
 
     from ftfof.report.figures import loss_figure, prediction_figure
-    from stages.surrogates import models_digest, read_dataset
+    from stages.surrogates import read_dataset
 
     params = load(params_path)
     cfg = params.train
@@ -62,7 +62,7 @@ def command(
     for fig, path in ((loss_fig, loss_plot), (pred_fig, pred_plot)):
         with atomic_path(path) as tmp:
             fig.savefig(tmp, format="png", dpi=100)
-    _track(params, results, data, summary, (loss_plot, pred_plot), models_digest(out))
+    _track(params, results, data, summary, (loss_plot, pred_plot), out, dataset_dir)
     for r in results:
         m = r["metrics"]
         console.print(
@@ -128,10 +128,12 @@ def _write_models(out: Path, results: list[dict], data, cfg) -> None:
     """State dicts (torch.load(weights_only=True)), normalisation and config, all or nothing."""
     import torch
 
+    from ftfof.pipeline.registry import weights_file
+
     with atomic_dir(out) as tmp:
         for r in results:
             state = {k: torch.from_numpy(v) for k, v in r["state"].items()}
-            torch.save(state, tmp / f"{r['target']}_{r['kind']}.pt")
+            torch.save(state, tmp / weights_file(r["target"], r["kind"]))
         (tmp / "normalization.json").write_text(data.normalization.to_json() + "\n")
         config = {
             "model": {
@@ -151,20 +153,30 @@ def _write_models(out: Path, results: list[dict], data, cfg) -> None:
 
 
 def _track(
-    params, results: list[dict], data, summary: dict, figures: tuple[Path, ...], digest: str
+    params,
+    results: list[dict],
+    data,
+    summary: dict,
+    figures: tuple[Path, ...],
+    out: Path,
+    dataset_dir: Path,
 ) -> None:
-    """One parent run per invocation, a child per model and loss."""
+    """One parent run per invocation, a child per model and loss; every model is registered as a
+    version of ``ftfof-<robot>-<target>-<loss>``, and the ``use`` pair gets the alias."""
     import numpy as np
     import torch
 
+    from ftfof.pipeline.registry import model_name, weights_file
     from ftfof.surrogate.model import ForceGRU, ModelConfig
     from stages import tracking
+    from stages.surrogates import models_digest
 
     mlflow = tracking.setup(tracking.experiment_name(params.robot))
     from mlflow.models import infer_signature
 
     tags = tracking.tags("train")
-    parent_tags = {**tags, tracking.MODELS_DIGEST_TAG: digest}
+    parent_tags = {**tags, tracking.MODELS_DIGEST_TAG: models_digest(out)}
+    dataset_input = tracking.dataset_input(dataset_dir / "samples.parquet")
     cfg = params.train
     example = data.inputs("validation")[:1]
     requirements = [
@@ -181,15 +193,18 @@ def _track(
     }
     flat = tracking.flatten(settings)
     with mlflow.start_run(run_name="train", tags=parent_tags):
+        mlflow.log_input(dataset_input, context="training")
         mlflow.log_params(flat)
         mlflow.log_metric("wall_seconds", summary["wall_seconds"])
         for path in figures:
             mlflow.log_artifact(str(path), artifact_path="figures")
         for r in results:
-            name = f"{r['target']}-{r['kind']}"
             with mlflow.start_run(
-                run_name=name, nested=True, tags={**tags, "target": r["target"], "loss": r["kind"]}
+                run_name=f"{r['target']}-{r['kind']}",
+                nested=True,
+                tags={**tags, "target": r["target"], "loss": r["kind"]},
             ):
+                mlflow.log_input(dataset_input, context="training")
                 mlflow.log_params(
                     {**flat, "target": r["target"], "loss": r["kind"], "seed": r["seed"]}
                 )
@@ -214,11 +229,18 @@ def _track(
                 model.eval()
                 with torch.no_grad():
                     output = model(torch.from_numpy(example)).numpy()
-                mlflow.pytorch.log_model(
+                name = model_name(params.robot, r["target"], r["kind"])
+                info = mlflow.pytorch.log_model(
                     model,
                     name="model",
                     signature=infer_signature(example, output),
                     input_example=example,
                     pip_requirements=requirements,
                     serialization_format="pickle",
+                    registered_model_name=name,
+                    extra_files=[str(out / weights_file(r["target"], r["kind"]))],
                 )
+                if r["kind"] == cfg.use:
+                    client.set_registered_model_alias(
+                        name, cfg.alias, str(info.registered_model_version)
+                    )

@@ -95,17 +95,24 @@ def trained(tmp_path_factory, raw_params):
     ds = dataset_args(tmp, tmp / "acq", params=params)
     assert CliRunner().invoke(app, ds).exit_code == 0
     uri = f"sqlite:///{tmp / 'mlflow.db'}"
+    train_models(tmp, uri, data, "models")
+    return tmp, uri, data
+
+
+def train_models(tmp: Path, uri: str, data: dict, name: str) -> Path:
+    """Run `ftfof train` on ``tmp/ds`` with ``data`` as params into ``tmp/<name>``."""
+    params = write_params(tmp / f"{name}.yaml", data)
     args = cli_args(
         "train",
         params,
         dataset=tmp / "ds",
-        out=tmp / "models",
-        metrics=tmp / "m.json",
-        loss_plot=tmp / "loss.png",
-        pred_plot=tmp / "pred.png",
+        out=tmp / name,
+        metrics=tmp / f"{name}.json",
+        loss_plot=tmp / f"{name}_loss.png",
+        pred_plot=tmp / f"{name}_pred.png",
     )
     result = CliRunner().invoke(
         app, args, env={"MLFLOW_TRACKING_URI": uri, "DVC_EXP_NAME": "test-exp"}
     )
     assert result.exit_code == 0, result.stderr
-    return tmp, uri, data
+    return tmp / name

@@ -1,6 +1,8 @@
 """Stage `dataset` and `ftfof import-logs`: the Parquet dataset, bad inputs, real-log round trip."""
 
 import json
+import os
+import subprocess
 
 import numpy as np
 import pandas as pd
@@ -19,6 +21,13 @@ from tests.data.fake import fake_acquisition
 from tests.sim.helpers import bench
 
 runner = CliRunner()
+GIT_ENV = {
+    **os.environ,
+    "GIT_AUTHOR_NAME": "t",
+    "GIT_AUTHOR_EMAIL": "t@ftfof.invalid",
+    "GIT_COMMITTER_NAME": "t",
+    "GIT_COMMITTER_EMAIL": "t@ftfof.invalid",
+}
 
 
 @pytest.fixture(scope="module")
@@ -38,11 +47,28 @@ def test_the_dataset_has_the_documented_schema_units_and_metadata(built):
     units = {f.name: f.metadata[b"unit"].decode() for f in table.schema}
     assert units["x"] == "m" and units["vz"] == "m/s" and units["Fd"] == "N" and units["t"] == "s"
     meta = json.loads(table.schema.metadata[dataset.METADATA_KEY])
-    assert {"params_hash", "robot", "surface", "exudyn", "git_commit", "normalization"} <= set(meta)
+    assert {"params_hash", "robot", "surface", "exudyn", "ftfof", "normalization"} <= set(meta)
+    assert not {k for k in meta if "commit" in k or "run" in k}  # lineage lives in MLflow
     assert meta["robot"] == "mst_m3f" and meta["exudyn"] == "1.13.6"
     summary = json.loads((built / "ds.json").read_text())
     assert summary["excluded_failed"] == 2 and summary["baseline"] == 2
     assert (built / "ds.png").stat().st_size > 10_000
+
+
+def test_the_dataset_bytes_do_not_depend_on_the_git_commit(built, tmp_path, monkeypatch):
+    """Two clones at different commits, same acquisition: byte-identical datasets."""
+    outputs = []
+    for n in range(2):
+        repo = tmp_path / f"clone{n}"
+        repo.mkdir()
+        (repo / "note.txt").write_text(f"commit {n}\n")
+        for cmd in (["init", "-q"], ["add", "-A"], ["commit", "-qm", f"c{n}"]):
+            subprocess.run(["git", *cmd], cwd=repo, check=True, env=GIT_ENV)
+        monkeypatch.setenv("DVC_ROOT", str(repo))
+        result = runner.invoke(app, dataset_args(repo, built / "acq"))
+        assert result.exit_code == 0, result.stderr
+        outputs.append((repo / "ds" / "samples.parquet").read_bytes())
+    assert outputs[0] == outputs[1]
 
 
 def test_train_and_validation_are_disjoint_85_15_and_stable(built, tmp_path):

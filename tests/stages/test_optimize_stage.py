@@ -12,19 +12,19 @@ from ftfof.config import Params
 from ftfof.trajectory.bezier import DECISION_NAMES
 from stages.cli import app
 from stages.robot import robot_context
-from tests.conftest import cli_args, write_params
+from tests.conftest import cli_args, train_models, write_params
 
 runner = CliRunner()
 TINY = {"population": 16, "generations": 6, "log_every": 2, "recheck_samples": 1024}
 
 
-def _optimize(tmp, uri, data, name):
+def _optimize(tmp, uri, data, name, models="models"):
     params = write_params(tmp / f"{name}.yaml", data)
     out = tmp / name
     args = cli_args(
         "optimize",
         params,
-        models=tmp / "models",
+        models=tmp / models,
         out=out,
         metrics=tmp / f"{name}_optimize.json",
         convergence=tmp / f"{name}_convergence.csv",
@@ -41,7 +41,11 @@ def optimized(request, trained):
     data = copy.deepcopy(data)
     data["robot"] = request.param
     data["optimize"] = {**data["optimize"], **TINY}
-    result, out = _optimize(tmp, uri, data, f"opt_{request.param}")
+    models = "models"
+    if request.param != "mst_m3f":  # the shared fixture trained for mst_m3f: register this robot's
+        models = f"models_{request.param}"
+        train_models(tmp, uri, data, models)
+    result, out = _optimize(tmp, uri, data, f"opt_{request.param}", models)
     assert result.exit_code == 0, result.output
     return tmp, uri, data, out, request.param
 
@@ -108,15 +112,39 @@ def test_mlflow_run_links_the_surrogates_and_logs_convergence(optimized):
     assert run.data.params["optimize.population"] == str(TINY["population"])
     figures = {a.path for a in client.list_artifacts(run.info.run_id, "figures")}
     assert {f"figures/opt_{robot}_star.png", f"figures/opt_{robot}_pcp.png"} <= figures
-    trained_here = client.search_runs(
-        [experiment.experiment_id], "attributes.run_name = 'train'"
-    )  # the fixture trained on mst_m3f only
-    if robot == "mst_m3f":
-        (train,) = trained_here
-        assert run.data.tags["ftfof.surrogate_run"] == train.info.run_id
-        assert train.info.run_id in run.data.tags["mlflow.note.content"]
-    else:
-        assert not trained_here and run.data.tags["ftfof.surrogate_run"] == "unknown"
+    (train,) = client.search_runs([experiment.experiment_id], "attributes.run_name = 'train'")
+    assert run.data.tags["ftfof.surrogate_run"] == train.info.run_id
+    assert train.info.run_id in run.data.tags["mlflow.note.content"]
+    assert run.data.tags["mlflow.source.name"] == "optimize"
+    for target in ("Fd", "Fp"):  # the versions the search used, resolved by alias
+        version = client.get_model_version_by_alias(f"ftfof-{robot}-{target}-dilate", "champion")
+        expected = f"models:/ftfof-{robot}-{target}-dilate/{version.version}"
+        assert run.data.params[f"model.{target}"] == expected
+
+
+def test_an_alias_missing_from_the_registry_is_one_clear_error(trained):
+    tmp, uri, data = trained
+    data = copy.deepcopy(data)
+    data["optimize"] = {**data["optimize"], **TINY}
+    data["train"] = {**data["train"], "alias": "nobody"}
+    result, out = _optimize(tmp, uri, data, "opt_no_alias")
+    assert result.exit_code != 0
+    assert "models:/ftfof-mst_m3f-Fd-dilate@nobody: not in the MLflow registry" in result.output
+    assert not out.exists() and not (tmp / "opt_no_alias_optimize.json").exists()
+
+
+def test_weights_that_differ_from_the_tracked_models_are_refused(trained, tmp_path):
+    import shutil
+
+    tmp, uri, data = trained
+    data = copy.deepcopy(data)
+    data["optimize"] = {**data["optimize"], **TINY}
+    shutil.copytree(tmp / "models", tmp_path / "models")
+    (tmp_path / "models" / "Fd_dilate.pt").write_bytes(b"not these weights")
+    result, out = _optimize(tmp_path, uri, data, "opt_stale")
+    assert result.exit_code != 0
+    assert "differs from" in result.output and "re-run `ftfof train`" in result.output
+    assert not out.exists()
 
 
 def test_a_failed_search_writes_nothing(trained):

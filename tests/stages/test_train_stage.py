@@ -21,7 +21,7 @@ def test_models_load_with_weights_only(trained):
 
 def test_metrics_and_figures(trained):
     tmp, _, _ = trained
-    metrics = json.loads((tmp / "m.json").read_text())
+    metrics = json.loads((tmp / "models.json").read_text())
     for name in ("Fd_dilate", "Fd_mse", "Fp_dilate", "Fp_mse"):
         assert {
             "mse",
@@ -30,7 +30,7 @@ def test_metrics_and_figures(trained):
             "peak_error_p90",
             "peak_time_error_median",
         } <= set(metrics[name])
-    for png in ("loss.png", "pred.png"):
+    for png in ("models_loss.png", "models_pred.png"):
         assert (tmp / png).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
@@ -58,7 +58,7 @@ def test_mlflow_holds_the_parent_and_child_runs_with_params_metrics_models_and_t
     assert p.data.tags["dvc.stage"] == "train" and p.data.tags["dvc.exp_name"] == "test-exp"
     assert len(p.data.tags["git.commit"]) >= 7
     figures = {a.path for a in client.list_artifacts(p.info.run_id, "figures")}
-    assert figures == {"figures/loss.png", "figures/pred.png"}
+    assert figures == {"figures/models_loss.png", "figures/models_pred.png"}
     for child in children:
         assert child.data.params["train.epochs"] == str(data["train"]["epochs"])
         history = client.get_metric_history(child.info.run_id, "validation_loss")
@@ -72,3 +72,38 @@ def test_mlflow_holds_the_parent_and_child_runs_with_params_metrics_models_and_t
     assert len(models) == 4
     loaded = mlflow.pytorch.load_model(f"models:/{models[0].model_id}")
     assert loaded(torch.zeros(1, 24, 4)).shape == (1, 24, 1)
+
+
+def test_every_model_is_a_registered_version_and_the_used_pair_has_the_alias(trained):
+    _, uri, data = trained
+    import mlflow
+
+    client = mlflow.MlflowClient(tracking_uri=uri)
+    alias, use = data["train"]["alias"], data["train"]["use"]
+    for target in ("Fd", "Fp"):
+        for loss in data["train"]["losses"]:
+            name = f"ftfof-mst_m3f-{target}-{loss}"
+            (version,) = client.search_model_versions(f"name = '{name}'")
+            run = client.get_run(version.run_id)
+            assert run.data.tags["mlflow.source.name"] == "train"
+            assert run.data.params["loss"] == loss and run.data.params["target"] == target
+        champion = client.get_model_version_by_alias(f"ftfof-mst_m3f-{target}-{use}", alias)
+        assert client.get_run(champion.run_id).data.params["loss"] == use
+
+
+def test_every_train_run_records_the_dataset_it_trained_on(trained):
+    tmp, uri, _ = trained
+    import hashlib
+
+    import mlflow
+
+    client = mlflow.MlflowClient(tracking_uri=uri)
+    experiment = client.get_experiment_by_name("ftfof-mst_m3f")
+    md5 = hashlib.md5((tmp / "ds" / "samples.parquet").read_bytes()).hexdigest()
+    runs = client.search_runs([experiment.experiment_id])
+    assert len(runs) == 5
+    for run in runs:
+        (entry,) = run.inputs.dataset_inputs
+        assert entry.dataset.digest == md5
+        assert "data/dataset/samples.parquet" in entry.dataset.source
+        assert {t.key: t.value for t in entry.tags}["mlflow.data.context"] == "training"

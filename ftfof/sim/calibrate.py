@@ -15,7 +15,7 @@ from scipy.optimize import minimize
 
 from ftfof import config
 from ftfof.sim.pool import run_all
-from ftfof.sim.simulate import SampleResult
+from ftfof.sim.records import SampleResult
 from ftfof.sim.spec import SampleSpec
 
 # FTFOF Table I (N): the two common trajectories the fit may use.

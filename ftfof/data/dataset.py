@@ -1,4 +1,4 @@
-"""Acquisitions -> fixed-length training sequences for the surrogates (DESIGN §7).
+"""Acquisitions -> fixed-length training sequences for the surrogates (FTFOF §IV.B).
 
 One row per sample with fixed-length list columns. Each sample is cut to its trajectory time
 base [0, T3 + hold] and resampled to ``seq_len`` bins: the commanded foot x, z at the bin centres

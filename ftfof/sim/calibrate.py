@@ -1,4 +1,4 @@
-"""Fit a surface to FTFOF Table I with the polynomial and cycloidal baselines (DESIGN §6).
+"""Fit a surface to FTFOF Table I with the polynomial and cycloidal baselines (docs/simulator.md).
 
 Fits the adhesive strength and fracture energy, plus at most one more surface parameter, so the
 simulated max detachment force and max pre-pressure of the two baselines land on the published

@@ -24,7 +24,7 @@ from ftfof.sim.spec import SampleSpec
 Task = Callable[[Sequence[SampleSpec]], list[SampleResult]]
 
 # Workers fork from the parent, which has already imported Exudyn and compiled the kernels
-# (notes/exudyn.md §5: forking after Exudyn ran is safe and bitwise identical).
+# (docs/simulator.md: forking after Exudyn ran is safe and bitwise identical).
 POOL_START = "fork"
 
 

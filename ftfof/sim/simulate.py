@@ -1,6 +1,6 @@
 """Simulate one acquisition: build the platform, run the protocol, return uniform-rate channels.
 
-Protocol (DESIGN §6): settle, press the foot until the sensor reads the pre-pressure a (closed
+Protocol (FTFOF §IV.A): settle, press the foot until the sensor reads the pre-pressure a (closed
 loop on the sensor, then frozen), run the trajectory, hold the landing with the same commanded
 press, stop. The solver takes ``solver.step`` while bonds break or the pad lands and
 ``solver.free_step`` elsewhere. Any Exudyn error, a non-finite state, or a run stopped before its

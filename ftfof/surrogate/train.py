@@ -1,4 +1,4 @@
-"""Training one surrogate with DILATE or MSE, and its validation metrics (DESIGN §8).
+"""Training one surrogate with DILATE or MSE, and its validation metrics (FTFOF §IV.B).
 
 Deterministic on CPU for a seed (seeded init and shuffling, deterministic algorithms, a fixed
 thread count); uses a GPU when one is present (the DILATE kernel itself runs on the CPU).

@@ -13,6 +13,7 @@ from typing import Annotated
 
 import typer
 
+from ftfof.errors import ParamsError
 from stages.common import ParamsOption, atomic_path, console, stage, write_json
 
 REPORT = Path("reports/calibration.json")
@@ -42,7 +43,6 @@ def command(
     """Fit the surface's strength and fracture energy (and one more) to FTFOF Table I."""
     import yaml
 
-    from ftfof.errors import ParamsError
     from ftfof.sim.calibrate import TABLE_I, calibrate
     from ftfof.sim.spec import Bench
     from ftfof.trajectory.baselines import common_trajectories
@@ -116,5 +116,8 @@ def update_surface(text: str, surface: str, values: dict[str, float]) -> str:
             seen.add(name)
     missing = set(values) - seen
     if missing:
-        raise ValueError(f"surfaces.{surface} has no line for {sorted(missing)}")
+        raise ParamsError(
+            f"surfaces.{surface}",
+            f"no line to rewrite for {sorted(missing)} (add them to params.yaml first)",
+        )
     return "".join(lines)

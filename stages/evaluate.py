@@ -246,15 +246,17 @@ def _fidelity(inputs: Inputs, df, ctx, surrogate) -> tuple[list[Fidelity], np.nd
 
 def _export(ctx, inputs: Inputs, rate: float) -> ControllerTrajectory:
     from ftfof.errors import SimulationError
-    from ftfof.evaluate.export import controller_trajectory
+    from ftfof.evaluate.export import ExportRateError, controller_trajectory
     from ftfof.kinematics.legs import build_leg
     from ftfof.trajectory.bezier import DECISION_NAMES
 
     X = np.array([inputs.optimum["decision"][n] for n in DECISION_NAMES])
     try:
         return controller_trajectory(ctx.policy, build_leg(ctx.robot.leg), X, rate)
-    except ValueError as err:
+    except ExportRateError as err:
         raise SimulationError("evaluate.export_rate_hz", str(err)) from None
+    except ValueError as err:  # the optimum leaves the leg's reach
+        raise SimulationError("optimum export", str(err)) from None
 
 
 def _metrics(params, inputs, rows, fidelity, controller, n_fidelity) -> dict:

@@ -38,7 +38,8 @@ def command(
     from ftfof.data.schema import TRAJECTORIES
     from ftfof.errors import ParamsError
     from ftfof.report.figures import sample_figure
-    from ftfof.sim.simulate import CHANNELS, simulate
+    from ftfof.sim.records import CHANNELS
+    from ftfof.sim.simulate import simulate
     from ftfof.sim.spec import Bench
     from ftfof.trajectory.baselines import BASELINE_NAMES, common_trajectories
     from ftfof.trajectory.bezier import DECISION_NAMES

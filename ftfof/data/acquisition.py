@@ -13,7 +13,7 @@ import numpy as np
 import pyarrow as pa
 
 from ftfof.data.schema import field
-from ftfof.sim.simulate import CHANNELS, SampleResult
+from ftfof.sim.records import CHANNELS, SampleResult, Status
 from ftfof.trajectory.bezier import DECISION_NAMES
 
 SCALARS = (
@@ -29,8 +29,18 @@ SCALARS = (
     ("retries", "", "1 if the solver needed a second, more careful attempt"),
 )
 UNITS = {
-    "t": "s", "x_cmd": "m", "z_cmd": "m", "x_foot": "m", "z_foot": "m", "Fx": "N", "Fz": "N",
-    "Fd": "N", "Fp": "N", "body_acc": "m/s^2", "bonds": "", "switch": "",
+    "t": "s",
+    "x_cmd": "m",
+    "z_cmd": "m",
+    "x_foot": "m",
+    "z_foot": "m",
+    "Fx": "N",
+    "Fz": "N",
+    "Fd": "N",
+    "Fp": "N",
+    "body_acc": "m/s^2",
+    "bonds": "",
+    "switch": "",
 }
 
 ACQUISITION = pa.schema(
@@ -40,12 +50,18 @@ ACQUISITION = pa.schema(
         field("sample_id", pa.int64(), "", "row of data/trajectories.parquet for sampled"),
         field("robot", pa.string(), "", "robot preset"),
         field("surface", pa.string(), "", "surface preset (or the log's label)"),
-        field("status", pa.string(), "", "ok | failed"),
+        field("status", pa.string(), "", " | ".join(Status)),
         field("error", pa.string(), "", "why a sample failed"),
-        *[field(n, pa.float64(), "m", f"control point {n} (NaN if not a Bezier)") for n in DECISION_NAMES],
+        *[
+            field(n, pa.float64(), "m", f"control point {n} (NaN if not a Bezier)")
+            for n in DECISION_NAMES
+        ],
         field("T3", pa.float64(), "s", "trajectory duration"),
         *[field(name, pa.float64(), unit, doc) for name, unit, doc in SCALARS],
-        *[field(c, pa.list_(pa.float32()), UNITS[c], f"series {c} at the sensor rate") for c in CHANNELS],
+        *[
+            field(c, pa.list_(pa.float32()), UNITS[c], f"series {c} at the sensor rate")
+            for c in CHANNELS
+        ],
     ]
 )
 
@@ -74,7 +90,7 @@ def to_table(
         cols["sample_id"].append(r.sample_id)
         cols["robot"].append(robot)
         cols["surface"].append(surface)
-        cols["status"].append(r.status)
+        cols["status"].append(str(r.status))
         cols["error"].append(r.error)
         if with_wall_time:
             cols["wall_time"].append(r.wall_time)

@@ -1,4 +1,4 @@
-"""Acquisitions -> fixed-length training sequences for the surrogates (DESIGN §7).
+"""Acquisitions -> fixed-length training sequences for the surrogates (FTFOF §IV.B).
 
 One row per sample with fixed-length list columns. Each sample is cut to its trajectory time
 base [0, T3 + hold] and resampled to ``seq_len`` bins: the commanded foot x, z at the bin centres
@@ -90,7 +90,7 @@ def time_base(T3: float, hold: float, seq_len: int) -> Array:
 
 
 def bin_max(t: Array, values: Array, T3: float, hold: float, seq_len: int) -> Array:
-    """Maximum of ``values`` in each bin of [0, T3 + hold]; empty bins take the interpolated value."""
+    """Maximum of ``values`` in each bin of [0, T3 + hold]; empty bins take the interpolation."""
     edges = np.linspace(0.0, T3 + hold, seq_len + 1)
     inside = (t >= edges[0]) & (t <= edges[-1])
     idx = np.clip(np.searchsorted(edges, t[inside], side="right") - 1, 0, seq_len - 1)
@@ -123,7 +123,7 @@ def resample(
 def split(keys: list[str], fraction: float, seed: int) -> list[str]:
     """'train' / 'validation' per key: a seeded permutation, round(fraction * n) validation."""
     order = np.random.default_rng(seed).permutation(len(keys))
-    n_val = int(round(fraction * len(keys)))
+    n_val = round(fraction * len(keys))
     labels = np.full(len(keys), "train", dtype=object)
     labels[order[:n_val]] = "validation"
     return labels.tolist()

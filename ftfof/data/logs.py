@@ -17,7 +17,7 @@ import pandas as pd
 
 from ftfof import config
 from ftfof.errors import DataError
-from ftfof.sim.simulate import CHANNELS, SampleResult
+from ftfof.sim.records import CHANNELS, SampleResult, Status
 
 SCALE = {
     "time": {"s": 1.0, "ms": 1e-3},
@@ -57,7 +57,9 @@ def _columns(df: pd.DataFrame, fmt: config.Logs, source: str) -> dict[str, tuple
     return out
 
 
-def parse(df: pd.DataFrame, fmt: config.Logs, source: str, name: str, sample_id: int) -> SampleResult:
+def parse(
+    df: pd.DataFrame, fmt: config.Logs, source: str, name: str, sample_id: int
+) -> SampleResult:
     """One validated log as the sample ``imported:<name>`` (channels in SI, tension positive)."""
     cols = _columns(df, fmt, source)
     values = {}
@@ -96,6 +98,6 @@ def parse(df: pd.DataFrame, fmt: config.Logs, source: str, name: str, sample_id:
         "peak_detachment": float(channels["Fd"].max()),
         "peak_pre_pressure": float(channels["Fp"].max()),
     }
-    result = SampleResult(f"imported:{name}", "imported", sample_id, "ok", "", 0.0, channels)
+    result = SampleResult(f"imported:{name}", "imported", sample_id, Status.OK, "", 0.0, channels)
     result.scalars = scalars
     return result

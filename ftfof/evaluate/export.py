@@ -27,6 +27,10 @@ COLUMNS = (
 )
 
 
+class ExportRateError(ValueError):
+    """The export rate is too low to sample the trajectory (the rate's fault, not the leg's)."""
+
+
 @dataclass(frozen=True)
 class ControllerTrajectory:
     table: Array  # (n, len(COLUMNS))
@@ -44,12 +48,15 @@ def controller_trajectory(
     """Sample the Bezier ``X`` (12,) over [0, T3] at ``rate_hz`` and solve the leg's IK.
 
     Joint rates solve J(q) dq = v exactly through the leg's sagittal parameterisation (two free
-    joints, the third following from them). Raises ValueError at the first unreachable instant.
+    joints, the third following from them). Raises ExportRateError for a rate giving fewer than 3
+    samples, ValueError at the first instant the leg cannot reach.
     """
     T3 = policy.timing.T3
     t = np.linspace(0.0, T3, int(np.floor(T3 * rate_hz + 1e-9)) + 1)
     if t.size < 3:
-        raise ValueError(f"export rate {rate_hz} Hz gives fewer than 3 samples over T3 = {T3} s")
+        raise ExportRateError(
+            f"export rate {rate_hz} Hz gives fewer than 3 samples over T3 = {T3} s"
+        )
     s = policy.sample(np.asarray(X, dtype=float)[None], t)
     position, velocity = s.position[0], s.velocity[0]
     theta = leg.inverse(position)

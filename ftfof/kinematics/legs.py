@@ -3,8 +3,8 @@
 Two leg types, both vectorised over leading axes of their inputs:
 
 - :class:`PlanarLeg` — hip, knee and ankle in the x-z plane; the ankle keeps the foot plate
-  parallel to the wall (DESIGN §5).
-- :class:`SpatialLeg` — the 3-DOF leg of eps_bezier.txt (D-H table I, forward eq. 5, analytic
+  parallel to the wall (docs/simulator.md, Legs).
+- :class:`SpatialLeg` — the 3-DOF leg of the ε-Bezier paper (D-H table I, forward eq. 5, analytic
   inverse eq. 6); the foot trajectory lies in the leg's plane y = 0.
 
 Each leg has three joints but only two degrees of freedom in the sagittal plane: the third
@@ -120,7 +120,7 @@ class PlanarLeg:
 
 @dataclass(frozen=True)
 class SpatialLeg:
-    """eps_bezier.txt leg: hip ab/adduction theta1, hip pitch theta2, knee theta3 (eq. 5-6)."""
+    """ε-Bezier paper leg: hip ab/adduction theta1, hip pitch theta2, knee theta3 (eq. 5-6)."""
 
     hip: Array  # origin of {O_1} in the trajectory frame (x, z)
     y0: float

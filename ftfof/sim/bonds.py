@@ -1,4 +1,4 @@
-"""The adhesive interface: one cohesive bond per film node (DESIGN §6).
+"""The adhesive interface: one cohesive bond per film node (docs/simulator.md).
 
 Force law (evaluated in C++ as a symbolic user function, see :mod:`ftfof.sim.model`), per node
 with opening u_n (film above plate), slip u_t from the bond's anchor and pad area A:

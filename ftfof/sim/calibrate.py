@@ -1,4 +1,4 @@
-"""Fit a surface to FTFOF Table I with the polynomial and cycloidal baselines (DESIGN §6).
+"""Fit a surface to FTFOF Table I with the polynomial and cycloidal baselines (docs/simulator.md).
 
 Fits the adhesive strength and fracture energy, plus at most one more surface parameter, so the
 simulated max detachment force and max pre-pressure of the two baselines land on the published
@@ -15,7 +15,7 @@ from scipy.optimize import minimize
 
 from ftfof import config
 from ftfof.sim.pool import run_all
-from ftfof.sim.simulate import SampleResult
+from ftfof.sim.records import SampleResult
 from ftfof.sim.spec import SampleSpec
 
 # FTFOF Table I (N): the two common trajectories the fit may use.

@@ -3,7 +3,7 @@
 Tree: two prismatic joints carry the robot body on its mounts (their PD gains *are* the mount
 stiffness and damping, the body mass sits on the second), then hip, knee and an ankle servo
 (RevoluteZ) tracking the inverse kinematics of the commanded foot motion, updated every step.
-The foot body hangs on the ankle link through a single marker (notes/exudyn.md: many tree
+The foot body hangs on the ankle link through a single marker (docs/simulator.md: many tree
 markers are slow) with a rigid-body spring-damper whose rotational stiffness about z is the
 passive ankle. Planar (``planar3``) legs only. About 5-7x slower than the lumped leg: it exists
 to check the lumped model, not for bulk data.

@@ -1,4 +1,4 @@
-"""The force-acquisition platform as an Exudyn multibody system (DESIGN §6, FTFOF §IV.A).
+"""The force-acquisition platform as an Exudyn multibody system (FTFOF §IV.A; docs/simulator.md).
 
 Planar: Exudyn x is along the wall, Exudyn y is our z (normal to the plate). Items:
 

@@ -2,23 +2,29 @@
 
 Specs travel to the workers (models cannot be pickled once they hold user functions), each worker
 builds and solves its batch with one thread, and results stream back in completion order so the
-caller can persist them as they arrive. A worker that dies (a hard crash in native code) turns
-its batch into failed results instead of stopping the run.
+caller can persist them as they arrive. A worker that dies (a hard crash in native code) takes
+down the pool and every batch in flight; those samples are then re-run one at a time, each in a
+fresh process, so that only the sample that kills its worker is recorded as failed and the run
+goes on with a new pool.
 """
 
 from __future__ import annotations
 
 import multiprocessing
 import os
-from collections.abc import Iterable, Iterator, Sequence
+from collections import deque
+from collections.abc import Callable, Generator, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 
-from ftfof.sim.simulate import SampleResult, simulate
+from ftfof.sim.records import FailureReason, SampleResult, Status
+from ftfof.sim.simulate import simulate
 from ftfof.sim.spec import SampleSpec
 
+Task = Callable[[Sequence[SampleSpec]], list[SampleResult]]
+
 # Workers fork from the parent, which has already imported Exudyn and compiled the kernels
-# (notes/exudyn.md §5: forking after Exudyn ran is safe and bitwise identical).
+# (docs/simulator.md: forking after Exudyn ran is safe and bitwise identical).
 POOL_START = "fork"
 
 
@@ -32,37 +38,75 @@ def _batches(specs: Sequence[SampleSpec], size: int) -> list[list[SampleSpec]]:
     return [list(specs[i : i + size]) for i in range(0, len(specs), size)]
 
 
-def failed(spec: SampleSpec, error: str) -> SampleResult:
-    return SampleResult(spec.key, spec.source, spec.sample_id, "failed", error, 0.0, {})
+def failed(spec: SampleSpec, error: str, reason: FailureReason) -> SampleResult:
+    return SampleResult(
+        spec.key, spec.source, spec.sample_id, Status.FAILED, error, 0.0, {}, reason=reason
+    )
 
 
 def run_local(
-    specs: Sequence[SampleSpec], workers: int, batch: int = 1
+    specs: Sequence[SampleSpec], workers: int, batch: int = 1, task: Task = simulate_batch
 ) -> Iterator[list[SampleResult]]:
-    """Yield each batch's results as soon as it completes (``workers`` 0 = all cores)."""
+    """Yield each batch's results as soon as it completes (``workers`` 0 = all cores).
+
+    Every spec comes back exactly once, as its own result or as a failed one.
+    """
     workers = workers or os.cpu_count() or 1
-    batches = _batches(specs, batch)
+    queue = deque(_batches(specs, batch))
     if workers == 1:
-        for b in batches:
-            yield simulate_batch(b)
+        for b in queue:
+            yield task(b)
         return
-    ctx = multiprocessing.get_context(POOL_START)
-    with ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
-        pending: dict[Future, list[SampleSpec]] = {}
-        queue = iter(batches)
-        for b in _take(queue, 2 * workers):
-            pending[pool.submit(simulate_batch, b)] = b
+    while queue:
+        suspects = yield from _pool_pass(queue, workers, task)
+        for spec in suspects:
+            yield _alone(spec, task)
+
+
+def _context() -> multiprocessing.context.BaseContext:
+    return multiprocessing.get_context(POOL_START)
+
+
+def _pool_pass(
+    queue: deque[list[SampleSpec]], workers: int, task: Task
+) -> Generator[list[SampleResult], None, list[SampleSpec]]:
+    """Run batches off ``queue`` until it is empty or a worker dies; return the specs in flight
+    when it died (their results are lost with the pool, and any of them may be the cause)."""
+    suspects: list[SampleSpec] = []
+    with ProcessPoolExecutor(max_workers=workers, mp_context=_context()) as pool:
+        pending: dict[Future[list[SampleResult]], list[SampleSpec]] = {}
+
+        def submit(n: int) -> None:
+            """Up to ``n`` batches; none once the pool is broken (they stay queued)."""
+            for _ in range(min(n, len(queue))):
+                try:
+                    fut = pool.submit(task, queue[0])
+                except BrokenProcessPool:
+                    return
+                pending[fut] = queue.popleft()
+
+        submit(2 * workers)
         while pending:
             done, _ = wait(pending, return_when=FIRST_COMPLETED)
             for fut in done:
                 b = pending.pop(fut)
                 try:
-                    yield fut.result()
-                except BrokenProcessPool as err:
-                    yield [failed(s, f"worker crashed: {err}") for s in b]
-                    return
-                for nxt in _take(queue, 1):
-                    pending[pool.submit(simulate_batch, nxt)] = nxt
+                    results = fut.result()
+                except BrokenProcessPool:
+                    suspects.extend(b)
+                    continue
+                yield results
+                submit(1)
+    return suspects
+
+
+def _alone(spec: SampleSpec, task: Task) -> list[SampleResult]:
+    """``spec`` in a process of its own: a crash there can only be its own."""
+    with ProcessPoolExecutor(max_workers=1, mp_context=_context()) as pool:
+        try:
+            return pool.submit(task, [spec]).result()
+        except BrokenProcessPool as err:
+            return [failed(spec, f"worker crashed: {err}", FailureReason.WORKER_CRASHED)]
 
 
 def run_dask(
@@ -79,7 +123,9 @@ def run_dask(
             try:
                 yield fut.result()
             except Exception as err:  # a worker lost or a remote exception: record, go on
-                yield [failed(s, f"{type(err).__name__}: {err}") for s in specs_of[fut.key]]
+                error = f"{type(err).__name__}: {err}"
+                reason = FailureReason.WORKER_CRASHED
+                yield [failed(s, error, reason) for s in specs_of[fut.key]]
 
 
 def run(
@@ -98,11 +144,3 @@ def run_all(specs: Sequence[SampleSpec], workers: int = 0) -> list[SampleResult]
         for r in results:
             out[order[r.key]] = r
     return [r for r in out if r is not None]
-
-
-def _take(it: Iterator[list[SampleSpec]], n: int) -> Iterable[list[SampleSpec]]:
-    for _ in range(n):
-        try:
-            yield next(it)
-        except StopIteration:
-            return

@@ -1,6 +1,6 @@
 """Simulate one acquisition: build the platform, run the protocol, return uniform-rate channels.
 
-Protocol (DESIGN §6): settle, press the foot until the sensor reads the pre-pressure a (closed
+Protocol (FTFOF §IV.A): settle, press the foot until the sensor reads the pre-pressure a (closed
 loop on the sensor, then frozen), run the trajectory, hold the landing with the same commanded
 press, stop. The solver takes ``solver.step`` while bonds break or the pad lands and
 ``solver.free_step`` elsewhere. Any Exudyn error, a non-finite state, or a run stopped before its
@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 
 import exudyn as exu
 import numpy as np
@@ -20,6 +20,7 @@ from scipy import signal
 
 from ftfof.sim import bonds
 from ftfof.sim.model import Platform, build
+from ftfof.sim.records import FailureReason, SampleResult, Status
 from ftfof.sim.spec import SampleSpec
 
 Array = NDArray[np.float64]
@@ -27,37 +28,6 @@ PRESS_TIME_CONSTANT = 0.01  # s, integral action of the pre-pressure loop
 LANDING_WINDOW = 0.003  # m: below this lowest-film height after detachment, take small steps
 PEEL_TAIL = 0.03  # s of small steps after the last bond breaks (release ringing, IMU peak)
 NEAR_BREAK = 0.3  # small steps while some bond's opening lambda exceeds this (breaks at 1)
-
-CHANNELS = (
-    "t",  # s, from the start of the trajectory
-    "x_cmd",  # commanded foot (ankle) x, m
-    "z_cmd",  # commanded foot z without the press, m
-    "x_foot",  # actual ankle x, m
-    "z_foot",  # actual ankle z above its rest height, m
-    "Fx",  # sensor tangential force on the plate, N
-    "Fz",  # sensor normal force, + = tension (detachment), N
-    "Fd",  # detachment force max(Fz, 0), N
-    "Fp",  # pre-pressure max(-Fz, 0), N (starts at the initial press a)
-    "body_acc",  # IMU acceleration magnitude, m/s^2
-    "bonds",  # intact bonds
-    "switch",  # photoelectric switch state (1 = foot detached)
-)
-
-
-@dataclass
-class SampleResult:
-    key: str
-    source: str
-    sample_id: int
-    status: str  # ok | failed
-    error: str
-    wall_time: float
-    channels: dict[str, Array]
-    scalars: dict[str, float] = field(default_factory=dict)
-
-    @property
-    def ok(self) -> bool:
-        return self.status == "ok"
 
 
 class _Run:
@@ -86,7 +56,8 @@ class _Run:
         self.max_curvature = 0.0
         self.mode = ""
         self.deadline = time.perf_counter() + s.solver.time_budget
-        self.stop_reason = ""
+        self.stop_reason: FailureReason | None = None
+        self.stop_message = ""
         self.steps = 0
 
     def __call__(self, mbs, t: float) -> bool:
@@ -131,14 +102,21 @@ class _Run:
         self.steps += 1
         if self.steps % 64 == 0:
             if not np.isfinite(q).all():
-                self.stop_reason = f"non-finite state at t = {t:.4f} s"
-                return False
-            if time.perf_counter() > self.deadline:
-                self.stop_reason = (
-                    f"time budget of {self.p.spec.solver.time_budget} s exceeded at t = {t:.4f} s"
+                return self._stop(
+                    FailureReason.NON_FINITE_STATE, f"non-finite state at t = {t:.4f} s"
                 )
-                return False
+            if time.perf_counter() > self.deadline:
+                budget = self.p.spec.solver.time_budget
+                return self._stop(
+                    FailureReason.TIME_BUDGET,
+                    f"time budget of {budget} s exceeded at t = {t:.4f} s",
+                )
         return True
+
+    def _stop(self, reason: FailureReason, message: str) -> bool:
+        """Record why the run stops; False tells Exudyn to stop."""
+        self.stop_reason, self.stop_message = reason, message
+        return False
 
     def _apply(self, n_push: int, t: float) -> None:
         st, setp = self.state, self.mbs.SetObjectParameter
@@ -211,7 +189,7 @@ def simulate(spec: SampleSpec) -> SampleResult:
     half the free step; ``retries`` records it. Running out of time budget is not retried.
     """
     first = _simulate_once(spec)
-    if first.ok or "time budget" in first.error:
+    if first.ok or first.reason is FailureReason.TIME_BUDGET:
         return first
     solver = spec.solver.model_copy(
         update={"tolerance": spec.solver.tolerance / 3, "free_step": spec.solver.free_step / 2}
@@ -232,28 +210,31 @@ def _simulate_once(spec: SampleSpec) -> SampleResult:
     solver = exu.MainSolverImplicitSecondOrder()
     run = _Run(platform, solver)
     platform.mbs.SetPreStepUserFunction(run)
+    reason: FailureReason | None = None
     error = ""
     try:
         solver.SolveSystem(platform.mbs, _settings(spec))
     except exu.ExudynError as err:
         lines = str(err).strip().splitlines()
-        error = f"{type(err).__name__}: {lines[-1] if lines else err}"
+        reason, error = FailureReason.SOLVER, f"{type(err).__name__}: {lines[-1] if lines else err}"
     end = platform.mbs.systemData.GetTime()
-    if not error and run.stop_reason:
-        error = f"stopped early: {run.stop_reason}"
-    elif not error and end < spec.end_time - 1e-9:
+    if reason is None and run.stop_reason is not None:
+        reason, error = run.stop_reason, f"stopped early: {run.stop_message}"
+    elif reason is None and end < spec.end_time - 1e-9:
+        reason = FailureReason.STOPPED_EARLY
         error = f"stopped early at t = {end:.4f} s of {spec.end_time:.4f} s"
     channels = _channels(platform, run)
-    if not error and not all(np.isfinite(c).all() for c in channels.values()):
-        error = "non-finite sensor values"
+    if reason is None and not all(np.isfinite(c).all() for c in channels.values()):
+        reason, error = FailureReason.NON_FINITE_SENSOR, "non-finite sensor values"
     result = SampleResult(
         spec.key,
         spec.source,
         spec.sample_id,
-        "failed" if error else "ok",
+        Status.OK if reason is None else Status.FAILED,
         error,
         time.perf_counter() - started,
         channels,
+        reason=reason,
     )
     result.scalars = summarize(result, run, spec)
     return result

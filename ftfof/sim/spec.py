@@ -1,6 +1,6 @@
 """What one simulated acquisition needs, as a picklable value (workers build the model from it).
 
-Exudyn systems with user functions cannot be pickled (notes/exudyn.md §5), so the pool ships
+Exudyn systems with user functions cannot be pickled (docs/simulator.md), so the pool ships
 these specs and each worker builds and solves its own model.
 """
 

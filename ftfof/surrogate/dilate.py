@@ -1,4 +1,4 @@
-"""DILATE loss (Le Guen & Thome, NeurIPS 2019), written from the maths (DESIGN §8).
+"""DILATE loss (Le Guen & Thome, NeurIPS 2019), written from the maths (FTFOF §IV.B).
 
 For a batch of predictions p and targets y (B, N, d), with D_b[i, j] = |y_i - p_j|^2:
 

@@ -1,4 +1,4 @@
-"""Training one surrogate with DILATE or MSE, and its validation metrics (DESIGN §8).
+"""Training one surrogate with DILATE or MSE, and its validation metrics (FTFOF §IV.B).
 
 Deterministic on CPU for a seed (seeded init and shuffling, deterministic algorithms, a fixed
 thread count); uses a GPU when one is present (the DILATE kernel itself runs on the CPU).
@@ -9,6 +9,7 @@ from __future__ import annotations
 import copy
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import get_args
 
 import numpy as np
 import torch
@@ -20,6 +21,7 @@ from ftfof.surrogate.model import ForceGRU, ModelConfig
 
 Array = NDArray[np.float64]
 DTW_GAMMA = 1e-4  # soft-DTW this sharp is hard DTW to within its smoothing
+LOSSES: tuple[str, ...] = get_args(config.Train.model_fields["use"].annotation)  # params' names
 
 
 @dataclass
@@ -43,9 +45,12 @@ def device() -> torch.device:
 def loss_fn(
     kind: str, settings: config.Train
 ) -> Callable[[torch.Tensor, torch.Tensor], torch.Tensor]:
+    """The training criterion ``kind``; an unknown name is an error, never a silent MSE."""
     if kind == "dilate":
         return lambda pred, target: dilate_loss(pred, target, settings.alpha, settings.gamma)[0]
-    return lambda pred, target: torch.mean((pred - target) ** 2)
+    if kind == "mse":
+        return lambda pred, target: torch.mean((pred - target) ** 2)
+    raise ValueError(f"unknown loss {kind!r} (known: {', '.join(LOSSES)})")
 
 
 def train_model(

@@ -27,7 +27,11 @@ def test_resampled_velocities_match_the_motion():
 
 def test_split_is_disjoint_85_15_and_seeded():
     keys = [f"k{i}" for i in range(101)]
-    a, b, c = dataset.split(keys, 0.15, 1), dataset.split(keys, 0.15, 1), dataset.split(keys, 0.15, 2)
+    a, b, c = (
+        dataset.split(keys, 0.15, 1),
+        dataset.split(keys, 0.15, 1),
+        dataset.split(keys, 0.15, 2),
+    )
     assert a == b and a != c
     assert a.count("validation") == 15 and a.count("train") == 86
 
@@ -44,7 +48,9 @@ def test_build_keeps_ok_samples_flags_baselines_and_documents_units(built):
     assert table.schema.field("vx").metadata[b"unit"] == b"m/s"
     splits = table.column("split").to_pylist()
     sources = table.column("source").to_pylist()
-    assert {s for s, src in zip(splits, sources, strict=True) if src.startswith("baseline:")} == {"baseline"}
+    assert {s for s, src in zip(splits, sources, strict=True) if src.startswith("baseline:")} == {
+        "baseline"
+    }
     assert splits.count("validation") == 6 and splits.count("train") == 34
 
 
@@ -52,7 +58,9 @@ def test_normalisation_comes_from_the_training_split_only(built):
     table, norm = built
     x_train, y_train = dataset.arrays(table, "train")
     np.testing.assert_allclose(norm.input_mean, x_train.mean(axis=(0, 1)), rtol=1e-5, atol=1e-6)
-    np.testing.assert_allclose(norm.target_scale, np.sqrt((y_train**2).mean(axis=(0, 1))), rtol=1e-5)
+    np.testing.assert_allclose(
+        norm.target_scale, np.sqrt((y_train**2).mean(axis=(0, 1))), rtol=1e-5
+    )
     assert dataset.Normalization.from_json(norm.to_json()) == norm
 
 
@@ -60,4 +68,6 @@ def test_targets_keep_the_peaks(built):
     table, _ = built
     _, y = dataset.arrays(table, "train")
     rows = table.filter(pa.compute.equal(table.column("split"), "train"))
-    np.testing.assert_allclose(y[:, :, 0].max(axis=1), rows.column("peak_detachment").to_numpy(), rtol=1e-6)
+    np.testing.assert_allclose(
+        y[:, :, 0].max(axis=1), rows.column("peak_detachment").to_numpy(), rtol=1e-6
+    )

@@ -13,7 +13,9 @@ FMT = config.Logs()
 
 def _log(**overrides):
     t = np.linspace(0, 1.1, 12)
-    df = pd.DataFrame({"t": t, "x": 120 * t, "z": 30 * np.sin(np.pi * t), "Fz": np.linspace(-5, 5, 12), "Fx": 0.1})
+    df = pd.DataFrame(
+        {"t": t, "x": 120 * t, "z": 30 * np.sin(np.pi * t), "Fz": np.linspace(-5, 5, 12), "Fx": 0.1}
+    )
     for k, v in overrides.items():
         df[k] = v
     return df
@@ -43,9 +45,18 @@ def test_units_in_headers_win_and_fx_is_optional():
     ("df", "message"),
     [
         (_log().drop(columns=["Fz"]), "bad.csv: row 1, column 'Fz': missing"),
-        (_log().rename(columns={"x": "x [inch]"}), "bad.csv: row 1, column 'x [inch]': unknown length unit 'inch'"),
-        (_log(z=[0.0, 1, 2, np.nan, 4, 5, 6, 7, 8, 9, 10, 11]), "bad.csv: row 5, column 'z': not a finite number"),
-        (_log(t=[0.0, 0.1, 0.2, 0.3, 0.25, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.1]), "bad.csv: row 6, column 't': time does not increase"),
+        (
+            _log().rename(columns={"x": "x [inch]"}),
+            "bad.csv: row 1, column 'x [inch]': unknown length unit 'inch'",
+        ),
+        (
+            _log(z=[0.0, 1, 2, np.nan, 4, 5, 6, 7, 8, 9, 10, 11]),
+            "bad.csv: row 5, column 'z': not a finite number",
+        ),
+        (
+            _log(t=[0.0, 0.1, 0.2, 0.3, 0.25, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.1]),
+            "bad.csv: row 6, column 't': time does not increase",
+        ),
     ],
     ids=["missing-column", "unknown-unit", "nan", "non-monotonic"],
 )

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from ftfof.evaluate.export import COLUMNS, controller_trajectory
+from ftfof.evaluate.export import COLUMNS, ExportRateError, controller_trajectory
 from ftfof.kinematics.legs import build_leg
 from ftfof.trajectory.sampling import sample_feasible
 
@@ -34,5 +34,12 @@ def test_joint_angles_reproduce_the_foot_path(ctx_name, request):
 def test_unreachable_point_is_named(m3f):
     X = sample_feasible(m3f.policy, 1, seed=4).X[0].copy()
     X[6:9] = 5.0  # P3z..P5z five metres from the wall
-    with pytest.raises(ValueError, match="cannot reach"):
+    with pytest.raises(ValueError, match="cannot reach") as raised:
         controller_trajectory(m3f.policy, build_leg(m3f.robot.leg), X, 100.0)
+    assert not isinstance(raised.value, ExportRateError)  # not the rate's fault
+
+
+def test_a_rate_too_low_for_three_samples_is_the_rates_fault(m3f):
+    X = sample_feasible(m3f.policy, 1, seed=4).X[0]
+    with pytest.raises(ExportRateError, match="fewer than 3 samples"):
+        controller_trajectory(m3f.policy, build_leg(m3f.robot.leg), X, 0.5)

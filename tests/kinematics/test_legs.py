@@ -1,4 +1,4 @@
-"""Leg kinematics: forward/inverse round trips, Jacobians, and eps_bezier.txt eq. 6."""
+"""Leg kinematics: forward/inverse round trips, Jacobians, and the ε-Bezier paper's eq. 6."""
 
 import numpy as np
 import pytest

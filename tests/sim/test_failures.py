@@ -1,6 +1,7 @@
 """A failing simulation becomes a failed result with the reason; the others go on."""
 
 from ftfof.sim.pool import run_all
+from ftfof.sim.records import FailureReason
 from tests.sim.helpers import PUBLISHED, bench
 
 
@@ -18,4 +19,5 @@ def test_a_run_over_its_time_budget_is_stopped_and_failed(params):
     (result,) = run_all([spec], workers=1)
     assert result.status == "failed"
     assert "time budget" in result.error
+    assert result.reason is FailureReason.TIME_BUDGET and result.scalars["retries"] == 0
     assert len(result.channels["t"]) > 0  # partial channels kept for diagnosis

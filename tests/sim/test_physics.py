@@ -1,4 +1,4 @@
-"""Physics checks of the simulated platform (DESIGN §6), each against a law or a trend."""
+"""Physics checks of the simulated platform (docs/simulator.md), each against a law or a trend."""
 
 from concurrent.futures import ProcessPoolExecutor
 

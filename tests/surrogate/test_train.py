@@ -1,10 +1,11 @@
 """Training: deterministic on CPU for a seed, learns, and stops early."""
 
 import numpy as np
+import pytest
 import torch
 
 from ftfof import config
-from ftfof.surrogate.train import train_model, validation_metrics
+from ftfof.surrogate.train import LOSSES, loss_fn, train_model, validation_metrics
 
 
 def _toy(n: int, seed: int):
@@ -45,3 +46,13 @@ def test_validation_metrics_on_a_hand_made_case():
     assert m["peak_error_median"] == 1.0
     assert m["peak_time_error_median"] == 0.02
     assert m["mse"] == (25 + 16) / 10
+
+
+def test_every_loss_params_allow_has_a_criterion_and_an_unknown_one_is_refused():
+    settings = config.Train()
+    pred, target = torch.zeros(2, 5, 1), torch.ones(2, 5, 1)
+    assert set(LOSSES) == {"dilate", "mse"}
+    for kind in LOSSES:
+        assert torch.isfinite(loss_fn(kind, settings)(pred, target))
+    with pytest.raises(ValueError, match=r"unknown loss 'mae' \(known: dilate, mse\)"):
+        loss_fn("mae", settings)

@@ -1,0 +1,65 @@
+"""The record of one acquisition, simulated or imported, and the names of its channels.
+
+Kept apart from the simulator so that code reading or writing acquisitions (the acquisition
+table, imported force logs) does not load Exudyn.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from enum import StrEnum
+
+import numpy as np
+from numpy.typing import NDArray
+
+Array = NDArray[np.float64]
+
+CHANNELS = (
+    "t",  # s, from the start of the trajectory
+    "x_cmd",  # commanded foot (ankle) x, m
+    "z_cmd",  # commanded foot z without the press, m
+    "x_foot",  # actual ankle x, m
+    "z_foot",  # actual ankle z above its rest height, m
+    "Fx",  # sensor tangential force on the plate, N
+    "Fz",  # sensor normal force, + = tension (detachment), N
+    "Fd",  # detachment force max(Fz, 0), N
+    "Fp",  # pre-pressure max(-Fz, 0), N (starts at the initial press a)
+    "body_acc",  # IMU acceleration magnitude, m/s^2
+    "bonds",  # intact bonds
+    "switch",  # photoelectric switch state (1 = foot detached)
+)
+
+
+class Status(StrEnum):
+    """A sample's outcome; the value is what the acquisition table's ``status`` column holds."""
+
+    OK = "ok"
+    FAILED = "failed"
+
+
+class FailureReason(StrEnum):
+    """Why a sample failed: decides whether a second attempt can help (the message says more)."""
+
+    SOLVER = "solver"  # the solver raised
+    NON_FINITE_STATE = "non-finite state"  # the state diverged during the run
+    TIME_BUDGET = "time budget"  # the run used up its wall-time budget
+    STOPPED_EARLY = "stopped early"  # the solver returned before the end time
+    NON_FINITE_SENSOR = "non-finite sensor"  # a resampled channel holds NaN or inf
+    WORKER_CRASHED = "worker crashed"  # the process running the sample died
+
+
+@dataclass
+class SampleResult:
+    key: str
+    source: str
+    sample_id: int
+    status: Status
+    error: str
+    wall_time: float
+    channels: dict[str, Array]
+    scalars: dict[str, float] = field(default_factory=dict)
+    reason: FailureReason | None = None  # set for a failed sample; not stored in tables
+
+    @property
+    def ok(self) -> bool:
+        return self.status == Status.OK

@@ -16,6 +16,7 @@ from stages import (
     profile,
     sample,
     simulate,
+    sweep,
     train,
 )
 from stages.runtime import tune_allocator
@@ -47,6 +48,7 @@ app.command("evaluate")(evaluate.command)
 app.command("profile")(profile.command)
 app.command("simulate")(simulate.command)
 app.command("calibrate")(calibrate.command)
+app.command("sweep")(sweep.command)
 
 
 def main() -> None:

@@ -44,19 +44,23 @@ def _path(loc: tuple[Any, ...], error_type: str) -> str:
 
 
 def format_validation_error(err: ValidationError) -> str:
-    """The first problem as 'key.path: what is wrong (got value)', plus a count of the rest."""
-    errors = err.errors()
-    first = errors[0]
-    template = _MESSAGES.get(first["type"])
-    ctx = {k: f"{v:g}" if isinstance(v, float) else v for k, v in first.get("ctx", {}).items()}
+    """Every problem as 'key.path: what is wrong (got value)', one per line."""
+    lines = [_problem(e) for e in err.errors()]
+    if len(lines) == 1:
+        return lines[0]
+    return f"{len(lines)} problems:\n" + "\n".join(f"  {line}" for line in lines)
+
+
+def _problem(error: Any) -> str:
+    template = _MESSAGES.get(error["type"])
+    ctx = {k: f"{v:g}" if isinstance(v, float) else v for k, v in error.get("ctx", {}).items()}
     if template is not None:
         what = template.format(**ctx)
     else:
-        what = first["msg"].removeprefix("Value error, ")
-    if first["type"] not in ("missing", "extra_forbidden", "union_tag_not_found"):
-        what += f" (got {first['input']!r})" if not isinstance(first["input"], dict) else ""
-    more = f" [and {len(errors) - 1} more problem(s)]" if len(errors) > 1 else ""
-    return f"{_path(first['loc'], first['type'])}: {what}{more}"
+        what = error["msg"].removeprefix("Value error, ")
+    if error["type"] not in ("missing", "extra_forbidden", "union_tag_not_found"):
+        what += f" (got {error['input']!r})" if not isinstance(error["input"], dict) else ""
+    return f"{_path(error['loc'], error['type'])}: {what}"
 
 
 def parse_params(raw: object, source: str = "params.yaml") -> Params:

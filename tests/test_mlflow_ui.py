@@ -2,6 +2,7 @@
 
 import json
 import os
+import shutil
 import signal
 import socket
 import subprocess
@@ -11,6 +12,7 @@ import urllib.request
 from pathlib import Path
 
 import pytest
+from PIL import Image
 
 pytestmark = pytest.mark.slow
 
@@ -28,7 +30,40 @@ def _call(url: str, body: dict | None = None) -> dict:
         return json.loads(resp.read())
 
 
-def test_mlflow_ui_serves_the_runs_and_a_metric_history(trained):
+def _registry_is_served(base: str, tmp_path: Path) -> None:
+    """The registered models with their versions and the alias, and the model page rendered."""
+    models = _call(f"{base}/api/2.0/mlflow/registered-models/search?max_results=100")
+    names = {m["name"] for m in models["registered_models"]}
+    assert {f"ftfof-mst_m3f-{t}-{k}" for t in ("Fd", "Fp") for k in ("dilate", "mse")} <= names
+    champion = _call(
+        f"{base}/api/2.0/mlflow/registered-models/alias?name=ftfof-mst_m3f-Fd-dilate&alias=champion"
+    )["model_version"]
+    run = _call(f"{base}/api/2.0/mlflow/runs/get?run_id={champion['run_id']}")["run"]
+    assert {p["key"]: p["value"] for p in run["data"]["params"]}["loss"] == "dilate"
+    (entry,) = run["inputs"]["dataset_inputs"]
+    assert entry["dataset"]["source"].endswith('"data/dataset/samples.parquet"}')
+    chromium = shutil.which("chromium") or "/usr/bin/chromium"
+    shot = tmp_path / "model_page.png"
+    subprocess.run(
+        [
+            chromium, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
+            "--no-first-run", "--disable-background-networking", "--disable-component-update",
+            "--disable-sync", f"--user-data-dir={tmp_path / 'profile'}", "--window-size=1280,900",
+            "--virtual-time-budget=15000", f"--screenshot={shot}",
+            f"{base}/#/models/ftfof-mst_m3f-Fd-dilate",
+        ],
+        check=True, capture_output=True, timeout=180,
+    )  # fmt: skip
+    image = Image.open(shot).convert("RGB")
+    assert image.size == (1280, 900)
+    # the model page, not a blank one or a spinner: text, the versions table and the alias tag
+    assert len(image.getcolors(maxcolors=1 << 20) or []) > 50
+    keep = os.environ.get("FTFOF_KEEP_SCREENSHOT")
+    if keep:
+        shutil.copy(shot, keep)
+
+
+def test_mlflow_ui_serves_the_runs_and_a_metric_history(trained, tmp_path):
     tmp, uri, _ = trained
     port = _port()
     mlflow = str(Path(sys.executable).parent / "mlflow")
@@ -85,6 +120,7 @@ def test_mlflow_ui_serves_the_runs_and_a_metric_history(trained):
         assert [m["step"] for m in history] == list(range(len(history))) and history
         with urllib.request.urlopen(f"{base}/", timeout=30) as resp:
             assert resp.status == 200  # the UI page itself
+        _registry_is_served(base, tmp_path)
     finally:
         os.killpg(proc.pid, signal.SIGTERM)
         try:

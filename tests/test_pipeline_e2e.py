@@ -79,33 +79,34 @@ def test_mlflow_store_holds_every_tracked_stage(repo):
     assert all(r.data.tags["dvc.stage"] in STAGES for r in runs if "dvc.stage" in r.data.tags)
 
 
-def test_forced_rerun_reproduces_every_artefact(repo):
+def test_forced_rerun_at_another_commit_reproduces_every_artefact(repo):
     before = _out_hashes(repo)
+    with (repo / "README.md").open("a") as readme:  # a new commit that changes no input
+        readme.write("\nA line that no stage reads.\n")
+    run(repo, "git", "commit", "-q", "-am", "another commit, same inputs")
     run(repo, "dvc", "repro", "--force", timeout=600)
     assert _out_hashes(repo) == before
 
 
-def test_experiments_over_robot_and_surface_compare(repo):
-    # every setting named: `dvc exp run` leaves its params in the workspace for the next one
-    quad = ("-n", "quad", "-S", "robot=mst_q", "-S", "surface=acrylic")
-    run(repo, "dvc", "exp", "run", *quad, timeout=600)
-    # in a temporary copy under .dvc/tmp and with no MLFLOW_TRACKING_URI: the runs must still
-    # land in the repository's own store
-    glass = ("--temp", "-n", "glass", "-S", "robot=mst_m3f", "-S", "surface=glass")
-    run(repo, "dvc", "exp", "run", *glass, timeout=600, unset=("MLFLOW_TRACKING_URI",))
-    shown = json.loads(run(repo, "dvc", "exp", "show", "--json").stdout)
-    text = json.dumps(shown)
-    assert '"quad"' in text and '"glass"' in text
-    diff = json.loads(run(repo, "dvc", "metrics", "diff", "--json", "quad", "glass").stdout)
-    assert "table.optimum.peak_detachment" in diff["reports/metrics.json"]
-    run(repo, "dvc", "plots", "diff", "quad", "glass", "-o", "plots_html")
+def test_a_queued_sweep_runs_in_parallel_workers_and_compares(repo):
+    # `ftfof sweep` queues the product (every setting named) and runs it with `dvc queue start
+    # -j 2`; the workers run in temporary copies under .dvc/tmp and here see no
+    # MLFLOW_TRACKING_URI: their runs must still land in the repository's own store
+    sweep = ("sweep", "robots=mst_q,mst_m3f", "surfaces=glass", "--jobs", "2", "--poll", "2")
+    out = run(repo, "python", "-m", "ftfof", *sweep, timeout=1500, unset=("MLFLOW_TRACKING_URI",))
+    assert "mst_q-glass" in out.stdout and "mst_m3f-glass" in out.stdout  # the exp show table
+    shown = json.dumps(json.loads(run(repo, "dvc", "exp", "show", "--json").stdout))
+    assert '"mst_q-glass"' in shown and '"mst_m3f-glass"' in shown
+    diff = run(repo, "dvc", "metrics", "diff", "--json", "mst_q-glass", "mst_m3f-glass")
+    assert "table.optimum.peak_detachment" in json.loads(diff.stdout)["reports/metrics.json"]
+    run(repo, "dvc", "plots", "diff", "mst_q-glass", "mst_m3f-glass", "-o", "plots_html")
     page = (repo / "plots_html/index.html").read_text()
     assert "<img" in page and "http" not in page  # PNG plots, readable offline
     client = mlflow.MlflowClient(tracking_uri=f"sqlite:///{repo / 'mlflow.db'}")
     quad = client.get_experiment_by_name("ftfof-mst_q")
     (run_q,) = client.search_runs([quad.experiment_id], "attributes.run_name = 'optimize'")
-    assert run_q.data.tags["dvc.exp_name"] == "quad"
+    assert run_q.data.tags["dvc.exp_name"] == "mst_q-glass"
     m3f = client.get_experiment_by_name("ftfof-mst_m3f")
-    on_glass = client.search_runs([m3f.experiment_id], "tags.`dvc.exp_name` = 'glass'")
-    assert {r.info.run_name for r in on_glass} >= {"optimize", "evaluate"}
+    on_glass = client.search_runs([m3f.experiment_id], "tags.`dvc.exp_name` = 'mst_m3f-glass'")
+    assert {r.info.run_name for r in on_glass} >= {"train", "optimize", "evaluate"}
     assert all(r.data.params.get("surface", "glass") == "glass" for r in on_glass)

@@ -32,7 +32,7 @@ def evaluated(trained, tmp_path_factory):
     figures = work / "figures"
     figures.mkdir()
     for source, target in (("loss", "train_loss"), ("pred", "train_predictions")):
-        shutil.copy(tmp / f"{source}.png", figures / f"{target}.png")
+        shutil.copy(tmp / f"models_{source}.png", figures / f"{target}.png")
     optimize = cli_args(
         "optimize",
         params,

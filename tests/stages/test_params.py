@@ -41,6 +41,19 @@ def test_negative_length_is_named(tmp_path, params_dict):
     assert "robots.mst_m3f.foot.pad_length: must be > 0 (got -0.05)" in msg
 
 
+def test_every_problem_is_listed_one_per_line(tmp_path, params_dict):
+    params_dict["sample"]["n"] = "many"
+    params_dict["robots"]["mst_m3f"]["foot"]["pad_length"] = -0.05
+    params_dict["train"]["epochs"] = 0
+    lines = _error(tmp_path, params_dict).splitlines()
+    assert lines[0].endswith("3 problems:")
+    assert sorted(line.strip().split(":")[0] for line in lines[1:]) == [
+        "robots.mst_m3f.foot.pad_length",
+        "sample.n",
+        "train.epochs",
+    ]
+
+
 def test_unknown_robot_is_named(tmp_path, params_dict):
     params_dict["robot"] = "mst_x"
     assert "robot: 'mst_x' is not a preset (have mst_m3f, mst_q)" in _error(tmp_path, params_dict)

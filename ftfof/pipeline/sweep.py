@@ -1,0 +1,89 @@
+"""Experiment sweeps: the product of a few named settings, each one queued DVC experiment.
+
+``robots=mst_m3f,mst_q surfaces=acrylic,glass`` is four experiments, named ``mst_m3f-acrylic``
+and so on, each setting every axis explicitly (``dvc exp run`` keeps the workspace's params for
+the next experiment, so a setting left out would leak from the previous one).
+"""
+
+from __future__ import annotations
+
+import itertools
+import re
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+from ftfof.errors import ParamsError
+
+AXES = {"robots": "robot", "surfaces": "surface"}  # command-line axis -> params key
+_NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.-]*$")
+
+
+@dataclass(frozen=True)
+class Experiment:
+    name: str
+    settings: dict[str, str]  # params key -> value
+
+    def queue_args(self) -> list[str]:
+        """Arguments of ``dvc`` that queue this experiment."""
+        sets = [arg for key, value in self.settings.items() for arg in ("-S", f"{key}={value}")]
+        return ["exp", "run", "--queue", "-n", self.name, *sets]
+
+
+def parse_axes(tokens: Sequence[str]) -> dict[str, list[str]]:
+    """``["robots=a,b", "surfaces=c"]`` -> ``{"robot": ["a", "b"], "surface": ["c"]}``."""
+    axes: dict[str, list[str]] = {}
+    for token in tokens:
+        axis, sep, values = token.partition("=")
+        if not sep or axis not in AXES:
+            raise ParamsError(f"sweep {token}", f"expected one of {', '.join(AXES)}=NAME[,NAME...]")
+        names = [v.strip() for v in values.split(",")]
+        if not all(names) or len(set(names)) != len(names):
+            raise ParamsError(f"sweep {token}", "names must be non-empty and distinct")
+        if bad := [n for n in names if not _NAME.match(n)]:
+            raise ParamsError(f"sweep {token}", f"not a usable experiment name part: {bad[0]!r}")
+        if AXES[axis] in axes:
+            raise ParamsError(f"sweep {token}", f"{axis} given twice")
+        axes[AXES[axis]] = names
+    if not axes:
+        raise ParamsError("sweep", f"nothing to sweep: give {' and/or '.join(AXES)}")
+    return axes
+
+
+def check_presets(axes: Mapping[str, Sequence[str]], presets: Mapping[str, Sequence[str]]) -> None:
+    """Every swept name must be a preset of params.yaml (``presets``: params key -> names)."""
+    for key, names in axes.items():
+        have = presets[key]
+        if unknown := [n for n in names if n not in have]:
+            raise ParamsError(
+                f"sweep {key}", f"no {key} preset {unknown[0]!r} (have {', '.join(have)})"
+            )
+
+
+def plan(axes: Mapping[str, Sequence[str]], prefix: str = "") -> list[Experiment]:
+    """The product of the axes, in the order given, one named experiment each."""
+    keys = list(axes)
+    return [
+        Experiment(prefix + "-".join(values), dict(zip(keys, values, strict=True)))
+        for values in itertools.product(*(axes[k] for k in keys))
+    ]
+
+
+def unfinished(status_text: str, names: Sequence[str]) -> list[str]:
+    """The experiments of ``names`` that ``dvc queue status`` still shows queued or running."""
+    pending = []
+    for line in status_text.splitlines():
+        words = line.split()
+        if any(name in words for name in names) and {"Queued", "Running"} & set(words):
+            pending.append(next(n for n in names if n in words))
+    return pending
+
+
+def failed(status_text: str, names: Sequence[str]) -> list[str]:
+    """The experiments of ``names`` that ``dvc queue status`` shows as failed."""
+    return [
+        n
+        for line in status_text.splitlines()
+        if "Failed" in line.split()
+        for n in names
+        if n in line.split()
+    ]

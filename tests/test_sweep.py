@@ -1,0 +1,56 @@
+"""Sweeps: axes parsed strictly, the product planned with every setting named, queue parsing."""
+
+import pytest
+
+from ftfof.errors import ParamsError
+from ftfof.pipeline.sweep import check_presets, failed, parse_axes, plan, unfinished
+
+
+def test_the_product_names_every_setting_in_every_experiment():
+    experiments = plan(parse_axes(["robots=mst_m3f,mst_q", "surfaces=acrylic,glass"]), "s1-")
+    assert [e.name for e in experiments] == [
+        "s1-mst_m3f-acrylic",
+        "s1-mst_m3f-glass",
+        "s1-mst_q-acrylic",
+        "s1-mst_q-glass",
+    ]
+    assert experiments[3].queue_args() == [
+        "exp", "run", "--queue", "-n", "s1-mst_q-glass", "-S", "robot=mst_q", "-S", "surface=glass"
+    ]  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("tokens", "message"),
+    [
+        (["robot=mst_q"], "expected one of robots, surfaces"),
+        (["robots=a,,b"], "non-empty and distinct"),
+        (["robots=a,a"], "non-empty and distinct"),
+        (["robots=a b"], "not a usable experiment name part"),
+        (["robots=a", "robots=b"], "robots given twice"),
+        ([], "nothing to sweep"),
+    ],
+)
+def test_malformed_axes_are_refused_with_the_token_at_fault(tokens, message):
+    with pytest.raises(ParamsError, match=message):
+        parse_axes(tokens)
+
+
+def test_an_unknown_preset_is_named_with_the_known_ones():
+    axes = parse_axes(["surfaces=acrylic,teflon"])
+    with pytest.raises(ParamsError, match="no surface preset 'teflon' \\(have acrylic, glass\\)"):
+        check_presets(axes, {"surface": ["acrylic", "glass"], "robot": []})
+
+
+STATUS = """Task     Name          Created    Status
+0a1b2c3  mst_q-glass   10:02 AM   Running
+4d5e6f7  mst_m3f-glass 10:02 AM   Queued
+8a9b0c1  other         09:00 AM   Failed
+2d3e4f5  mst_q-acryl   10:02 AM   Failed
+Worker status: 1 active, 0 idle
+"""
+
+
+def test_queue_status_is_read_for_the_sweeps_own_experiments_only():
+    names = ["mst_q-glass", "mst_m3f-glass", "mst_q-acryl"]
+    assert unfinished(STATUS, names) == ["mst_q-glass", "mst_m3f-glass"]
+    assert failed(STATUS, names) == ["mst_q-acryl"]

@@ -22,7 +22,8 @@ from tests.conftest import PUBLISHED_M3F
 HAIRPIN = np.array([0.1, 27.1, 30.3, 117.3, 140.1, 156.4, 12.3, 35.7, 39.1, 25.0, 12.6, 1.1]) / 1e3
 # A draw the old policy kept: it moves forward fast at the start and is still 3.3 mm under
 # hd = 9 mm past x = ld; every other rule passes.
-CRAWLER = np.array([16.9, 92.9, 125.2, 127.5, 140.0, 140.2, 18.2, 42.4, 47.3, 51.3, 61.8, 29.0]) / 1e3
+CRAWLER = np.array([16.9, 92.9, 125.2, 127.5, 140.0, 140.2, 18.2, 42.4, 47.3, 51.3, 61.8, 29.0])
+CRAWLER = CRAWLER / 1e3
 DENSITIES = (31, 64, 256, 1000)
 
 

@@ -134,6 +134,13 @@ class Shape(Strict):
     press_depth: NonNegative = 0.0  # how far the adhesion segment may go into the wall, m
 
 
+class PathRules(Strict):
+    """Rules on the whole sampled trajectory (FTFOF §III.B.3, eq. 15), switched per robot."""
+
+    md_path: bool  # detachment keeps z >= hd once x >= ld, on the path, not only at P5
+    min_path_radius: Positive  # m, tightest bend of the foot's path (fs6's hairpin guard)
+
+
 class XZ(Strict):
     """A pair of values along x (the wall) and z (its normal)."""
 
@@ -195,6 +202,7 @@ class Robot(Strict):
     position_limit: Limit
     velocity_limit: Limit
     shape: Shape
+    constraints: PathRules
     objectives: Annotated[list[Objective], Field(min_length=2)]  # priority order for RHS
     pre_pressure: Positive  # a, N (FTFOF eq. 12)
     platform: PlatformMechanics

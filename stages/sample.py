@@ -69,6 +69,9 @@ def command(
         "free_variables": list(ctx.policy.free_names),
         "rejected_by_constraint": result.rejected_by,
         "rejected_by_kind": result.rejected_by_kind,
+        # sampled-trajectory rules run only on the draws that pass the control-point rules
+        "evaluated_by_constraint": result.evaluated_by,
+        "pass_fraction_by_constraint": result.pass_fraction,
         "limits": ctx.limits.summary(),
         "seconds": round(elapsed, 3),
     }

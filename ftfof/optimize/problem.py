@@ -6,8 +6,9 @@ strategy functions and constraint rules are vectorised over it. Nothing loops pe
 
 Decision variables are the policy's free variables (ties reparameterised away) with its box;
 objectives are the robot's priority list; the inequality constraints are the policy's rules that
-the box does not already enforce (relational, shape, sampled position/velocity limits, fs6),
-divided by a unit scale per kind so that pymoo's summed violation compares like with like.
+the box does not already enforce (relational, shape, sampled position/velocity limits, fs6,
+md_path, the minimum path radius and the no-cusp rule), divided by a unit scale per kind so that
+pymoo's summed violation compares like with like.
 """
 
 from __future__ import annotations

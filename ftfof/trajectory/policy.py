@@ -8,7 +8,10 @@ Turns a robot preset plus its resolved limits into
 - a table of named constraints, each a vectorised violation measure (> 0 means violated) over a
   population of full 12-value decision vectors, covering the five constraint kinds of the paper
   plus the bending measure fs6. Swing containment is checked on the *sampled* trajectory (the
-  published MST-M3F optimum has swing control points above Pplz while its curve stays below).
+  published MST-M3F optimum has swing control points above Pplz while its curve stays below),
+  and so are md on the path (``md_path``, switchable per robot) and the hairpin guards
+  ``min_path_radius`` and ``no_cusp`` that keep fs6 from being passed between samples
+  (:mod:`ftfof.trajectory.rules`).
 
 An impossible description (a lower bound at or above its upper bound) raises
 :class:`~ftfof.errors.InfeasibleRobotError` naming the constraint, before anything is sampled.
@@ -28,6 +31,7 @@ from ftfof.errors import InfeasibleRobotError
 from ftfof.kinematics.limits import RobotLimits
 from ftfof.objectives import fs6_bending
 from ftfof.trajectory.bezier import DECISION_NAMES, Samples, evaluate
+from ftfof.trajectory.rules import md_path_violation, path_radius_violation, reversal_violation
 
 Array = NDArray[np.float64]
 KINDS = (
@@ -111,6 +115,17 @@ class FeasibilityReport:
     def rejected_by(self) -> dict[str, int]:
         """How many rows each constraint rejects (a row may count under several)."""
         counts = np.sum(self.violations > 0, axis=0)
+        return {n: int(c) for n, c in zip(self.names, counts, strict=True)}
+
+    def evaluated_by(self) -> dict[str, int]:
+        """How many rows each constraint was evaluated on (:meth:`ConstraintPolicy.screen`
+        leaves the sampled-trajectory rules NaN on rows the control-point rules reject)."""
+        counts = np.sum(~np.isnan(self.violations), axis=0)
+        return {n: int(c) for n, c in zip(self.names, counts, strict=True)}
+
+    def passed_by(self) -> dict[str, int]:
+        """How many rows each constraint was evaluated on and passed."""
+        counts = np.sum(self.violations <= 0, axis=0)
         return {n: int(c) for n, c in zip(self.names, counts, strict=True)}
 
     def rejected_by_kind(self) -> dict[str, int]:
@@ -323,6 +338,9 @@ class ConstraintPolicy:
         vplx, vplz = self.limits.velocity
         tol = self.feasibility.position_tolerance
         floor = np.where(self.t > self.timing.T2, -self.robot.shape.press_depth, self.p0[1])
+        r_min = self.robot.constraints.min_path_radius
+        # a speed that moves the foot less than min_step in one grid interval has no direction
+        min_speed = self.feasibility.min_step / float(self.t[1] - self.t[0])
 
         def extreme(key: str, axis: int, sign: float, limit: float) -> Callable[[_Context], Array]:
             return lambda c: sign * c.extremes[key][:, axis] - limit
@@ -350,7 +368,29 @@ class ConstraintPolicy:
                     - self.feasibility.bend_tolerance
                 ),
             ),
+            (
+                "bending",
+                "min_path_radius",
+                lambda c: path_radius_violation(
+                    c.samples.velocity, c.samples.acceleration, c.samples.t, r_min
+                ),
+            ),
+            ("bending", "no_cusp", lambda c: reversal_violation(c.samples.velocity, min_speed)),
         ]
+        if self.robot.constraints.md_path:
+            md = self.robot.min_detachment
+            rules.append(
+                (
+                    "min_detachment",
+                    "md_path",
+                    lambda c: (
+                        md_path_violation(
+                            c.samples.position, c.samples.t, self.timing.T1, md.ld, md.hd
+                        )
+                        - tol
+                    ),
+                )
+            )
         return [Constraint(kind, name, fn, sampled=True) for kind, name, fn in rules]
 
     def check(

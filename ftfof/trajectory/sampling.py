@@ -28,6 +28,13 @@ class SampleResult:
     draws: int
     rejected_by: dict[str, int]
     rejected_by_kind: dict[str, int]
+    evaluated_by: dict[str, int]  # draws each rule ran on (sampled rules: control-point survivors)
+    passed_by: dict[str, int]
+
+    @property
+    def pass_fraction(self) -> dict[str, float]:
+        """Per rule, the fraction of the draws it ran on that pass it."""
+        return {n: self.passed_by[n] / c if c else 0.0 for n, c in self.evaluated_by.items()}
 
     @property
     def acceptance_rate(self) -> float:
@@ -71,6 +78,8 @@ def sample_feasible(
     accepted = draws = 0
     rejected: dict[str, int] = {}
     rejected_kind: dict[str, int] = {}
+    evaluated: dict[str, int] = {}
+    passed: dict[str, int] = {}
     for size in _batch_sizes(batch, max_draws):
         if accepted >= n:
             break
@@ -81,6 +90,10 @@ def sample_feasible(
             rejected[name] = rejected.get(name, 0) + count
         for kind, count in report.rejected_by_kind().items():
             rejected_kind[kind] = rejected_kind.get(kind, 0) + count
+        for name, count in report.evaluated_by().items():
+            evaluated[name] = evaluated.get(name, 0) + count
+        for name, count in report.passed_by().items():
+            passed[name] = passed.get(name, 0) + count
         good = X[report.feasible]
         kept.append(good[: n - accepted])
         accepted += len(kept[-1])
@@ -94,7 +107,7 @@ def sample_feasible(
             f"(acceptance {accepted / max(draws, 1):.2e}); raise sample.max_draws or relax the "
             f"robot's constraints (most rejections: {_top(rejected)})",
         )
-    return SampleResult(np.concatenate(kept), draws, rejected, rejected_kind)
+    return SampleResult(np.concatenate(kept), draws, rejected, rejected_kind, evaluated, passed)
 
 
 def _top(counts: dict[str, int], k: int = 3) -> str:

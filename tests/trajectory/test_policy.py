@@ -32,8 +32,8 @@ def test_published_m3f_optimum_is_feasible(m3f):
 VIOLATORS = {
     "position_limit": _with(P10z=63.9, P11z=60.0),  # swing pushed over Pplz
     "min_detachment": _with(P5z=8.0, P3z=5.0, P4z=6.0),  # detachment ends below hd
-    "transition": _mm([4.6, 16.7, 30.2, 83.9, 127.0, 122.5, 21.1, 34.9, 35.5, 36.5, 24.7, 3.7]),
-    "shape": _with(P3x=20.0),  # P3 right of P4: outside the upper triangle
+    "transition": _mm([15.0, 28.5, 48.5, 95.5, 122.1, 133.0, 42.1, 39.6, 50.8, 20.2, 34.3, 9.8]),
+    "shape": _with(P4z=30.0),  # P4 above P5: outside the upper triangle
     "bending": _mm([3.1, 6.7, 52.8, 110.2, 132.4, 137.9, 15.8, 25.4, 42.4, 27.6, 16.6, 12.0]),
 }
 

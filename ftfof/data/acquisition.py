@@ -18,6 +18,9 @@ from ftfof.trajectory.bezier import DECISION_NAMES
 
 SCALARS = (
     ("peak_detachment", "N", "max Fd over the trajectory and landing"),
+    ("peak_normal", "N", "max pad tension normal to the wall while the pad holds"),
+    ("peak_shear", "N", "max |Fx_pad| while the pad holds"),
+    ("peak_pull", "N", "max |(Fx_pad, max(Fz_pad, 0))| while the pad holds: the foot's pull"),
     ("peak_pre_pressure", "N", "max Fp over the trajectory and landing (from the initial press)"),
     ("landing_pre_pressure", "N", "max Fp after the photoelectric switch"),
     ("initial_pre_pressure", "N", "mean press force just before the trajectory"),
@@ -36,6 +39,8 @@ UNITS = {
     "z_foot": "m",
     "Fx": "N",
     "Fz": "N",
+    "Fx_pad": "N",
+    "Fz_pad": "N",
     "Fd": "N",
     "Fp": "N",
     "body_acc": "m/s^2",

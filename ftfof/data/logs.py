@@ -17,7 +17,7 @@ import pandas as pd
 
 from ftfof import config
 from ftfof.errors import DataError
-from ftfof.sim.records import CHANNELS, SampleResult, Status
+from ftfof.sim.records import CHANNELS, SampleResult, Status, force_peaks
 
 SCALE = {
     "time": {"s": 1.0, "ms": 1e-3},
@@ -87,6 +87,8 @@ def parse(
         "z_foot": z,
         "Fx": values.get("Fx", nan),
         "Fz": fz,
+        "Fx_pad": values.get("Fx", nan),  # a real platform sees the pad through its sensor
+        "Fz_pad": fz,
         "Fd": np.maximum(fz, 0.0),
         "Fp": np.maximum(-fz, 0.0),
         "body_acc": nan,
@@ -97,6 +99,7 @@ def parse(
     scalars = {
         "peak_detachment": float(channels["Fd"].max()),
         "peak_pre_pressure": float(channels["Fp"].max()),
+        **force_peaks(channels["Fx_pad"], fz, np.ones_like(t, dtype=bool)),
     }
     result = SampleResult(f"imported:{name}", "imported", sample_id, Status.OK, "", 0.0, channels)
     result.scalars = scalars

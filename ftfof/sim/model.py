@@ -215,6 +215,12 @@ def build(spec: SampleSpec, law: BondLaw) -> Platform:
         "Fx": mbs.AddSensor(SensorObject(objectNumber=sensor_x, outputVariableType=force, **store)),
         "Fz": mbs.AddSensor(SensorObject(objectNumber=sensor_z, outputVariableType=force, **store)),
         "body_acc": body_acc,
+        # with the sensor forces, the plate's acceleration gives the pad-plate interface force
+        "plate_acc": mbs.AddSensor(
+            SensorNode(
+                nodeNumber=plate, outputVariableType=exu.OutputVariableType.Acceleration, **store
+            )
+        ),
         "foot": mbs.AddSensor(
             SensorNode(
                 nodeNumber=foot_node, outputVariableType=exu.OutputVariableType.Position, **store

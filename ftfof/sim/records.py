@@ -20,10 +20,12 @@ CHANNELS = (
     "z_cmd",  # commanded foot z without the press, m
     "x_foot",  # actual ankle x, m
     "z_foot",  # actual ankle z above its rest height, m
-    "Fx",  # sensor tangential force on the plate, N
-    "Fz",  # sensor normal force, + = tension (detachment), N
-    "Fd",  # detachment force max(Fz, 0), N
-    "Fp",  # pre-pressure max(-Fz, 0), N (starts at the initial press a)
+    "Fx",  # sensor tangential reading, N (includes the plate's inertia)
+    "Fz",  # sensor normal reading, + = tension (detachment), N
+    "Fx_pad",  # foot force along the wall: the pad-plate interface force (bonds + contact), N
+    "Fz_pad",  # foot force normal to the wall, + = tension, N
+    "Fd",  # detachment force max(Fz_pad, 0), N
+    "Fp",  # pre-pressure max(-Fz_pad, 0), N (starts at the initial press a)
     "body_acc",  # IMU acceleration magnitude, m/s^2
     "bonds",  # intact bonds
     "switch",  # photoelectric switch state (1 = foot detached)
@@ -63,3 +65,23 @@ class SampleResult:
     @property
     def ok(self) -> bool:
         return self.status == Status.OK
+
+
+def force_peaks(fx: Array, fz: Array, attached: NDArray[np.bool_]) -> dict[str, float]:
+    """Peaks of the foot force while the pad holds (``attached``), tension positive.
+
+    ``peak_pull`` is the resultant the foot pulls with, |(Fx, max(Fz, 0))|: it counts the pad
+    sheared off under compression as well as peeled or pulled off, so that neither mode looks
+    free to an optimiser. ``peak_normal`` is the tension alone, ``peak_shear`` the shear alone.
+    A missing tangential channel (NaN, e.g. a 1-axis log) leaves ``peak_shear`` NaN and the pull
+    normal-only.
+    """
+    tension = np.maximum(fz[attached], 0.0)
+    shear = np.abs(fx[attached])
+    has_shear = shear.size > 0 and np.isfinite(shear).all()
+    pull = np.hypot(shear, tension) if has_shear else tension
+    return {
+        "peak_normal": float(np.max(tension, initial=0.0)),
+        "peak_shear": float(np.max(shear, initial=0.0)) if has_shear else float("nan"),
+        "peak_pull": float(np.max(pull, initial=0.0)),
+    }

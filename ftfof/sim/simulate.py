@@ -20,7 +20,7 @@ from scipy import signal
 
 from ftfof.sim import bonds
 from ftfof.sim.model import Platform, build
-from ftfof.sim.records import FailureReason, SampleResult, Status
+from ftfof.sim.records import FailureReason, SampleResult, Status, force_peaks
 from ftfof.sim.spec import SampleSpec
 
 Array = NDArray[np.float64]
@@ -262,6 +262,11 @@ def _channels(p: Platform, run: _Run) -> dict[str, Array]:
         return clean + rng.normal(0.0, sensor.noise, t.size) if sensor.noise > 0 else clean
 
     fx, fz = measured("Fx"), measured("Fz")
+    # Foot force = force of the pad on the plate = sensor force + plate mass x acceleration
+    # (plate EOM), so the plate's own inertia while the linear module moves it is left out.
+    mass = sensor.plate_mass
+    fx_pad = signal.lfilter(b, a, at("Fx", 1) + mass * at("plate_acc", 1))
+    fz_pad = signal.lfilter(b, a, at("Fz", 1) + mass * at("plate_acc", 2))
     tt = t - run.t0
     cmd = spec.trajectory.sample(tt).position[0]
     switch = (
@@ -279,8 +284,10 @@ def _channels(p: Platform, run: _Run) -> dict[str, Array]:
         "z_foot": at("foot", 2) - ankle,
         "Fx": fx,
         "Fz": fz,
-        "Fd": np.maximum(fz, 0.0),
-        "Fp": np.maximum(-fz, 0.0),
+        "Fx_pad": fx_pad,
+        "Fz_pad": fz_pad,
+        "Fd": np.maximum(fz_pad, 0.0),
+        "Fp": np.maximum(-fz_pad, 0.0),
         "body_acc": acc,
         "bonds": n_bonds.astype(float),
         "switch": switch.astype(float),
@@ -294,7 +301,10 @@ def summarize(result: SampleResult, run: _Run, spec: SampleSpec) -> dict[str, fl
     during = t >= 0
     before = (t > -spec.platform.protocol.press_hold) & (t <= 0)
     film_limit = 1.0 / run.max_curvature if run.max_curvature > 0 else math.inf
+    switched = run.switched_at - run.t0
+    holding = during & (c["bonds"] > 0) & ((t <= switched) if not math.isnan(switched) else True)
     return {
+        **force_peaks(c["Fx_pad"], c["Fz_pad"], holding),
         "peak_detachment": float(np.max(c["Fd"][during], initial=0.0)),
         "peak_pre_pressure": float(np.max(c["Fp"][during], initial=0.0)),
         "landing_pre_pressure": float(np.max(c["Fp"][c["switch"] > 0], initial=0.0)),

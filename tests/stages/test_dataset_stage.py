@@ -139,8 +139,8 @@ def test_simulated_samples_exported_as_logs_and_imported_back_give_the_same_rows
                 "t": c["t"][keep],
                 "x": c["x_cmd"][keep] * 1e3,
                 "z": c["z_cmd"][keep] * 1e3,
-                "Fz": c["Fz"][keep],
-                "Fx": c["Fx"][keep],
+                "Fz": c["Fz_pad"][keep],  # a log holds the foot force
+                "Fx": c["Fx_pad"][keep],
             }
         ).to_csv(path, index=False, float_format="%.9g")
         logs.append(str(path))

@@ -371,6 +371,8 @@ class Feasibility(Strict):
     position_tolerance: NonNegative = 1e-6  # m
     bend_tolerance: NonNegative = 1e-9  # rad, fs6 <= this counts as 0
     min_step: Positive = 1e-9  # m, displacements shorter than this are skipped by fs6
+    # accepted samples are checked again on a grid at least this fine (a controller's rate)
+    recheck_hz: Positive = 1000.0
 
 
 class Sample(Strict):

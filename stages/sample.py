@@ -20,7 +20,7 @@ def command(
     out: Annotated[Path, typer.Option(help="Trajectory table to write.")] = OUT,
     metrics: Annotated[Path, typer.Option(help="Summary metrics JSON.")] = METRICS,
 ) -> None:
-    """Sample n climbable trajectories (scrambled Sobol or LHS over the policy's box)."""
+    """Sample n climbable trajectories (scrambled Sobol or LHS over the rule-shaped region)."""
     import numpy as np
     import pyarrow as pa
     import pyarrow.parquet as pq
@@ -64,7 +64,10 @@ def command(
         "robot": ctx.name,
         "samples": n,
         "draws": result.draws,
-        "acceptance_rate": result.acceptance_rate,
+        "acceptance_rate": result.acceptance_rate,  # per draw over the rule-shaped region
+        "box_acceptance_rate": result.box_acceptance,  # estimated, per plain box draw
+        "rejected_by_fine_recheck": result.rejected_by_fine_recheck,
+        "recheck_hz": params.feasibility.recheck_hz,
         "design": cfg.design,
         "free_variables": list(ctx.policy.free_names),
         "rejected_by_constraint": result.rejected_by,

@@ -19,6 +19,7 @@ An impossible description (a lower bound at or above its upper bound) raises
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -269,6 +270,79 @@ class ConstraintPolicy:
     @property
     def n_free(self) -> int:
         return len(self.free_names)
+
+    def shaped(self, U: Array) -> tuple[Array, Array]:
+        """Unit-cube points (pop, n_free) -> full decision vectors inside the control-point rules,
+        and each point's box weight.
+
+        Why: the box holds the shape and transition rules as inequalities between variables, so
+        most box draws (MST-M3F: > 99 %) break one of them before any trajectory is sampled. Each
+        variable is instead drawn between bounds set by the variables drawn before it: P10x in its
+        box; P5x below P10x; (P3x, P4x) uniform over the ordered triangle below P5x (the square
+        root keeps that pair uniform); P3z, P4z between the chord P0-P5 and P5z (a vertical lift:
+        ordered below P5z like the x pair); P10z above the peel height; the rest in their box.
+        The map is onto the region the control-point rules allow (up to its boundary), so no
+        feasible trajectory is out of reach; it is not volume-preserving, so a uniform design is
+        not uniform over that region. It restates those rules rather than replaces them: callers
+        still :meth:`check` every rule on what it returns.
+
+        The weight is the map's Jacobian over the box volume: its mean over a uniform design
+        estimates the fraction of the box the control-point rules keep, and its mean times
+        feasibility the fraction of the box that is feasible (what plain box draws would accept).
+        """
+        U = np.atleast_2d(U)
+        box = self.variable_bounds()
+        u = {n: U[:, j] for j, n in enumerate(self.free_names)}
+        X = self.expand(np.zeros_like(U))
+        weight = np.full(len(U), 1.0 / float(np.prod(self.upper - self.lower)))
+
+        def col(name: str) -> Array:
+            return X[:, _COL[name]]
+
+        def put(name: str, lo: Array | float, hi: Array | float, root: bool = False) -> None:
+            nonlocal weight
+            lo = np.maximum(lo, box[name][0].value)
+            span = np.minimum(hi, box[name][1].value) - lo
+            w = np.sqrt(u[name]) if root else u[name]
+            X[:, _COL[name]] = lo + w * span
+            # d sqrt(u) / du = 1 / (2 sqrt(u)); the next variable's span (w * span) cancels it
+            weight = weight * span * (0.5 / np.maximum(w, 1e-300) if root else 1.0)
+
+        r = self.robot
+        lf = r.foot.pad_length
+        done = {"P3x", "P4x", "P5x", "P10x", "P3z", "P4z", "P5z"}
+        put("P10x", -np.inf, np.inf)
+        triangle = r.shape.detachment == "upper_triangle"
+        if triangle:
+            put("P5x", -np.inf, col("P10x"))
+            put("P4x", self.p0[0], col("P5x"), root=True)
+            put("P3x", self.p0[0], col("P4x"))
+        put("P5z", -np.inf, np.inf)
+        if triangle:
+            slope = (col("P5z") - self.p0[1]) / np.maximum(col("P5x") - self.p0[0], 1e-12)
+            for p in ("P3", "P4"):
+                put(p + "z", self.p0[1] + (col(p + "x") - self.p0[0]) * slope, col("P5z"))
+        else:
+            put("P4z", -np.inf, col("P5z"), root=True)
+            put("P3z", -np.inf, col("P4z"))
+        if r.shape.complete_detachment == "peel":
+            put("P10z", np.sqrt(np.maximum(0.0, lf**2 - (col("P10x") - lf) ** 2)), np.inf)
+            done.add("P10z")
+        for name in self.free_names:
+            if name not in done:
+                put(name, -np.inf, np.inf)
+        return self.expand(self.contract(X)), weight
+
+    def at_rate(self, hz: float) -> ConstraintPolicy:
+        """The same rules on a grid at least ``hz`` samples per second over [0, T3].
+
+        Why: a rule met on the policy's n_t samples can fail between them (MST-M3F at 256
+        samples: 5 % of accepted draws broke md_path at 1 kHz), and a controller replays the
+        trajectory at its own rate.
+        """
+        n_t = max(self.feasibility.n_t, math.ceil(self.timing.T3 * hz) + 1)
+        feasibility = self.feasibility.model_copy(update={"n_t": n_t})
+        return ConstraintPolicy(self.robot, self.limits, feasibility, self.name)
 
     # --- trajectories -------------------------------------------------------------------------
 

@@ -35,6 +35,8 @@ def test_sample_writes_the_documented_table_and_metrics(tmp_path, params_dict):
     assert summary["samples"] == 64 and summary["robot"] == "mst_m3f"
     assert 0 < summary["acceptance_rate"] < 1
     assert summary["rejected_by_kind"]["velocity_limit"] > 0
+    assert summary["rejected_by_fine_recheck"] >= 0 and summary["recheck_hz"] == 1000.0
+    assert 0 < summary["box_acceptance_rate"] < summary["acceptance_rate"]
 
 
 def test_sample_is_reproducible(tmp_path, params_dict):

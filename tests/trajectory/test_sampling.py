@@ -1,9 +1,12 @@
 """Sampling the climbable set: feasible, seeded, bounded."""
 
+import math
+
 import numpy as np
 import pytest
 
 from ftfof.errors import SamplingError
+from ftfof.trajectory.policy import ConstraintPolicy
 from ftfof.trajectory.sampling import sample_feasible
 
 
@@ -33,3 +36,29 @@ def test_mst_q_samples_detach_vertically_and_honour_the_tie(mst_q):
 def test_too_small_a_draw_budget_is_a_clear_error_not_a_loop(m3f):
     with pytest.raises(SamplingError, match=r"only \d+ of 1000 .* raise sample.max_draws"):
         sample_feasible(m3f.policy, 1000, seed=0, batch=1024, max_draws=4096)
+
+
+@pytest.mark.parametrize("robot", ["m3f", "mst_q"])
+def test_every_accepted_row_passes_every_rule_at_1_khz(robot, request):
+    ctx = request.getfixturevalue(robot)
+    res = sample_feasible(ctx.policy, 50, seed=12)
+    timing = ctx.robot.timing
+    khz = ctx.policy.feasibility.model_copy(update={"n_t": math.ceil(timing.T3 * 1000) + 1})
+    fine = ConstraintPolicy(ctx.robot, ctx.limits, khz, ctx.name)
+    assert fine.t[1] - fine.t[0] <= 1e-3
+    report = fine.check(res.X)
+    assert report.feasible.all(), [report.failed(i) for i in np.flatnonzero(~report.feasible)]
+
+
+@pytest.mark.parametrize("robot", ["m3f", "mst_q"])
+def test_shaped_draws_pass_every_control_point_rule(robot, request):
+    policy = request.getfixturevalue(robot).policy
+    U = np.random.default_rng(0).random((20_000, policy.n_free))
+    X, weight = policy.shaped(U)
+    cheap = tuple(c for c in policy.constraints if not c.sampled)
+    assert policy.check(X, constraints=cheap).feasible.all()
+    np.testing.assert_array_equal(policy.shaped(U)[0], X)
+    # the box weights estimate the fraction of the box those rules keep (4 binomial sigmas)
+    box = policy.expand(policy.lower + U * (policy.upper - policy.lower))
+    kept = policy.check(box, constraints=cheap).feasible.mean()
+    assert abs(weight.mean() - kept) < 4 * math.sqrt(kept * (1 - kept) / len(U))

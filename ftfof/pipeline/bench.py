@@ -1,0 +1,34 @@
+"""The simulated bench of a run and the baselines on it, built one way for every command."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+
+from ftfof.config import Params, Surface
+from ftfof.robot import RobotContext
+from ftfof.sim.spec import Bench, SampleSpec
+from ftfof.trajectory.baselines import common_trajectories
+from ftfof.trajectory.piecewise import Sampled
+
+
+def bench(params: Params, ctx: RobotContext, surface: Surface | None = None) -> Bench:
+    """The platform with the selected robot on ``surface`` (default: the selected surface)."""
+    return Bench(
+        ctx.robot,
+        surface or params.selected_surface,
+        params.platform,
+        params.acquire,
+        params.base.seed,
+    )
+
+
+def baseline_trajectories(params: Params, ctx: RobotContext) -> dict[str, Sampled]:
+    """The common trajectories every optimum is compared with, from this run's seed."""
+    return common_trajectories(ctx.policy, params.baselines, params.base.seed)
+
+
+def baseline_specs(
+    on: Bench, trajectories: Mapping[str, Sampled], names: Iterable[str] | None = None
+) -> list[SampleSpec]:
+    """One spec per baseline (``names`` in order; default all), keyed ``baseline:<name>``."""
+    return [on.analytic(f"baseline:{n}", 0, trajectories[n]) for n in names or trajectories]

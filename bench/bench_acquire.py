@@ -14,8 +14,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from stages.robot import robot_context
-
+from ftfof.robot import robot_context
 from ftfof.sim import pool
 from ftfof.sim.simulate import simulate
 from ftfof.sim.spec import Bench

@@ -3,15 +3,12 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated
+from typing import Annotated
 
 import typer
 
 from ftfof.pipeline.io import atomic_path, save_figure
 from stages.common import ParamsOption, console, stage
-
-if TYPE_CHECKING:
-    import numpy as np
 
 OUT_DIR = Path("reports/simulate")
 
@@ -38,7 +35,7 @@ def command(
 
     from ftfof.data.schema import TRAJECTORIES
     from ftfof.errors import ParamsError
-    from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench
+    from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, parse_points
     from ftfof.pipeline.io import read_table
     from ftfof.report.figures import sample_figure
     from ftfof.robot import robot_context
@@ -63,7 +60,7 @@ def command(
         spec, name = baseline_specs(on, trajectories, [baseline])[0], baseline
     else:
         if points is not None:
-            X = _parse_points(points, unit)
+            X = parse_points(points, unit)
             name = "points"
         else:
             table = read_table(trajectories, TRAJECTORIES, "trajectory table")
@@ -92,20 +89,3 @@ def command(
         console.print(f"  {key:22s} {value:10.4f}")
     if not result.ok:
         raise typer.Exit(1)
-
-
-def _parse_points(text: str, unit: str) -> np.ndarray:
-    import numpy as np
-
-    from ftfof.errors import ParamsError
-
-    scale = {"m": 1.0, "mm": 1e-3}.get(unit)
-    if scale is None:
-        raise ParamsError("--unit", f"must be m or mm (got {unit!r})")
-    try:
-        values = [float(v) for v in text.split(",")]
-    except ValueError:
-        raise ParamsError("--points", "must be 12 comma-separated numbers") from None
-    if len(values) != 12:
-        raise ParamsError("--points", f"needs 12 values P3x..P12z (got {len(values)})")
-    return np.array(values) * scale

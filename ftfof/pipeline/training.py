@@ -14,8 +14,8 @@ from typing import Any
 from ftfof.config import Params, Train
 from ftfof.pipeline import tracking
 from ftfof.pipeline.digests import models_digest
-from ftfof.pipeline.registry import TARGETS, model_name, weights_file
-from ftfof.surrogate.store import TrainingData
+from ftfof.pipeline.registry import model_name
+from ftfof.surrogate.store import TARGETS, TrainingData, weights_file
 
 
 @dataclass

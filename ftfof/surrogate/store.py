@@ -22,10 +22,15 @@ from ftfof.data import dataset
 from ftfof.errors import DataError
 from ftfof.pipeline.digests import bytes_sha256
 from ftfof.pipeline.io import atomic_dir, read_table
-from ftfof.pipeline.registry import TARGETS, weights_file
 from ftfof.surrogate.predict import GRUWeights, Surrogate
 
 FILE = "samples.parquet"
+TARGETS = ("Fd", "Fp")
+
+
+def weights_file(target: str, loss: str) -> str:
+    """The state-dict file of one model, in the model directory and in the registry alike."""
+    return f"{target}_{loss}.pt"
 
 
 @dataclass

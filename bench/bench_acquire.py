@@ -14,12 +14,12 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from ftfof.robot import robot_context
 from ftfof.sim import pool
 from ftfof.sim.simulate import simulate
 from ftfof.sim.spec import Bench
 from ftfof.trajectory.sampling import sample_feasible
 from stages.params import load_params
-from stages.robot import robot_context
 from stages.runtime import tune_allocator
 
 

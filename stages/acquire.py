@@ -1,10 +1,6 @@
 """Stage `acquire`: simulate every sampled trajectory and the baselines -> data/acquisition/.
 
-Results are written as they complete, one atomic Parquet part per finished batch under
-``data/acquisition/pending/``; a killed run re-run resumes from them (a manifest fingerprint of the
-inputs, params and code versions guards against mixing runs). When every sample is in, the parts
-are compacted into one canonical ``samples.parquet`` sorted by key, so the output does not depend
-on completion order.
+A resumable job (:mod:`ftfof.pipeline.jobs`): a killed run re-run resumes from its pending parts.
 """
 
 from __future__ import annotations
@@ -14,7 +10,7 @@ from typing import Annotated
 
 import typer
 
-from stages.common import ParamsOption, console, stage, write_json
+from stages.common import ParamsOption, console, stage
 
 OUT = Path("data/acquisition")
 TRAJECTORIES = Path("data/trajectories.parquet")
@@ -34,9 +30,11 @@ def command(
     limit: Annotated[int | None, typer.Option(help="Only the first N sampled rows.")] = None,
 ) -> None:
     """Simulate the force-acquisition platform for every trajectory (resumable)."""
-    from stages.acquisition import FINAL, Acquisition
+    from ftfof.pipeline.io import write_json
+    from ftfof.pipeline.jobs import FINAL, Acquisition
+    from stages.params import load_params
 
-    job = Acquisition.prepare(params_path, trajectories, out, limit)
+    job = Acquisition.prepare(load_params(params_path), trajectories, out, limit)
     cfg = job.params.acquire
     n_workers = cfg.workers if workers is None else workers
     address = cfg.scheduler if scheduler is None else scheduler

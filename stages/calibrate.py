@@ -14,18 +14,11 @@ from typing import Annotated
 import typer
 
 from ftfof.errors import ParamsError
-from stages.common import ParamsOption, atomic_path, console, stage, write_json
+from ftfof.pipeline.calibration import THIRD_BOUNDS
+from ftfof.pipeline.io import atomic_path, write_json
+from stages.common import ParamsOption, console, stage
 
 REPORT = Path("reports/calibration.json")
-THIRD_BOUNDS = {
-    "preload_pressure": (2e2, 5e4),
-    "rate_exponent": (0.1, 1.2),
-    "rate_speed": (1e-3, 1.0),
-    "shear_ratio": (0.1, 2.0),
-    "friction": (0.1, 1.5),
-    "contact_stiffness": (1e7, 1e10),
-}
-BOUNDS = {"strength": (2e3, 5e5), "fracture_energy": (1.0, 5e3)}
 COMMENT = "# fitted by ftfof calibrate (reports/calibration.json)"
 
 
@@ -43,52 +36,18 @@ def command(
     """Fit the surface's strength and fracture energy (and one more) to FTFOF Table I."""
     import yaml
 
-    from ftfof.sim.calibrate import TABLE_I, calibrate
-    from ftfof.sim.spec import Bench
-    from ftfof.trajectory.baselines import common_trajectories
+    from ftfof.pipeline.calibration import fit_surface
     from stages.params import load_params, parse_params
-    from stages.robot import robot_context
 
     params = load_params(params_path)
-    ctx = robot_context(params)
-    bounds = dict(BOUNDS)
-    if third and third != "none":
-        if third not in THIRD_BOUNDS:
-            raise ParamsError(
-                "--third", f"cannot fit {third!r} (choose from {', '.join(THIRD_BOUNDS)})"
-            )
-        bounds[third] = THIRD_BOUNDS[third]
-    trajectories = common_trajectories(ctx.policy, params.baselines, params.base.seed)
-
-    def specs_for(surface):
-        bench = Bench(ctx.robot, surface, params.platform, params.acquire, params.base.seed)
-        return [bench.analytic(f"baseline:{n}", 0, trajectories[n]) for n in TABLE_I]
-
-    console.print(
-        f"calibrating surface {params.surface!r} on {ctx.name}: fitting {', '.join(bounds)}"
-    )
-    fit = calibrate(params.selected_surface, specs_for, bounds, params.acquire.workers, evaluations)
-    write_json(
-        report,
-        {
-            "surface": params.surface,
-            "robot": ctx.name,
-            "targets": TABLE_I,
-            "values": fit.values,
-            "residuals": fit.residuals,
-            "measured": fit.measured,
-            "worst_relative_error": fit.worst,
-            "evaluations": fit.evaluations,
-            "history": fit.history,
-            "baselines": params.baselines.model_dump(),
-        },
-    )
-    for name, value in fit.values.items():
+    fit = fit_surface(params, third, evaluations)
+    write_json(report, fit)
+    for name, value in fit["values"].items():
         console.print(f"  {name:18s} {value:.6g}")
-    for name, err in fit.residuals.items():
+    for name, err in fit["residuals"].items():
         console.print(f"  {name:34s} {err:+.1%}")
     if write_params:
-        text = update_surface(params_path.read_text(), params.surface, fit.values)
+        text = update_surface(params_path.read_text(), params.surface, fit["values"])
         parse_params(yaml.safe_load(text), str(params_path))  # must still validate
         with atomic_path(params_path) as tmp:
             tmp.write_text(text)

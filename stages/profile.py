@@ -12,7 +12,8 @@ from typing import Annotated, Any
 
 import typer
 
-from stages.common import ParamsOption, atomic_path, console, stage
+from ftfof.pipeline.io import atomic_path
+from stages.common import ParamsOption, console, stage
 
 PROFILES = Path("profiles")
 

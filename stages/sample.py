@@ -8,7 +8,8 @@ from typing import Annotated
 
 import typer
 
-from stages.common import ParamsOption, atomic_path, console, progress, stage, write_json
+from ftfof.pipeline.io import write_json, write_parquet
+from stages.common import ParamsOption, console, progress, stage
 
 OUT = Path("data/trajectories.parquet")
 METRICS = Path("reports/sample.json")
@@ -23,13 +24,12 @@ def command(
     """Sample n climbable trajectories (scrambled Sobol or LHS over the rule-shaped region)."""
     import numpy as np
     import pyarrow as pa
-    import pyarrow.parquet as pq
 
     from ftfof.data.schema import TRAJECTORIES
+    from ftfof.robot import robot_context
     from ftfof.trajectory.bezier import DECISION_NAMES
     from ftfof.trajectory.sampling import sample_feasible
     from stages.params import load_params
-    from stages.robot import robot_context
 
     params = load_params(params_path)
     ctx = robot_context(params)
@@ -58,8 +58,7 @@ def command(
         "P15z": np.full(n, ctx.policy.p15[1]),
     }
     table = pa.Table.from_pydict(columns, schema=TRAJECTORIES)
-    with atomic_path(out) as tmp:
-        pq.write_table(table, tmp)
+    write_parquet(out, table)
     summary = {
         "robot": ctx.name,
         "samples": n,

@@ -3,14 +3,12 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated
+from typing import Annotated
 
 import typer
 
-from stages.common import ParamsOption, atomic_path, console, stage
-
-if TYPE_CHECKING:
-    import numpy as np
+from ftfof.pipeline.io import atomic_path, save_figure
+from stages.common import ParamsOption, console, stage
 
 OUT_DIR = Path("reports/simulate")
 
@@ -37,34 +35,32 @@ def command(
 
     from ftfof.data.schema import TRAJECTORIES
     from ftfof.errors import ParamsError
+    from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, parse_points
+    from ftfof.pipeline.io import read_table
     from ftfof.report.figures import sample_figure
+    from ftfof.robot import robot_context
     from ftfof.sim.records import CHANNELS
     from ftfof.sim.simulate import simulate
-    from ftfof.sim.spec import Bench
-    from ftfof.trajectory.baselines import BASELINE_NAMES, common_trajectories
+    from ftfof.trajectory.baselines import BASELINE_NAMES
     from ftfof.trajectory.bezier import DECISION_NAMES
-    from stages.common import read_table
     from stages.params import load_params
-    from stages.robot import robot_context
 
     chosen = [x is not None for x in (points, row, baseline)]
     if sum(chosen) != 1:
         raise ParamsError("simulate", "give exactly one of --points, --row, --baseline")
     params = load_params(params_path)
     ctx = robot_context(params)
-    bench = Bench(
-        ctx.robot, params.selected_surface, params.platform, params.acquire, params.base.seed
-    )
+    on = bench(params, ctx)
     if baseline is not None:
         if baseline not in BASELINE_NAMES:
             raise ParamsError(
                 "--baseline", f"unknown baseline {baseline!r} (have {', '.join(BASELINE_NAMES)})"
             )
-        traj = common_trajectories(ctx.policy, params.baselines, params.base.seed)[baseline]
-        spec, name = bench.analytic(f"baseline:{baseline}", 0, traj), baseline
+        trajectories = baseline_trajectories(params, ctx)
+        spec, name = baseline_specs(on, trajectories, [baseline])[0], baseline
     else:
         if points is not None:
-            X = _parse_points(points, unit)
+            X = parse_points(points, unit)
             name = "points"
         else:
             table = read_table(trajectories, TRAJECTORIES, "trajectory table")
@@ -75,7 +71,7 @@ def command(
         report = ctx.policy.check(X)
         if not report.feasible[0]:
             console.print(f"[yellow]note: infeasible for {ctx.name}: {'; '.join(report.failed(0))}")
-        spec = bench.bezier("sampled", row or 0, X)
+        spec = on.bezier("sampled", row or 0, X)
     result = simulate(spec)
     out_dir.mkdir(parents=True, exist_ok=True)
     csv = out_dir / f"{name}.csv"
@@ -86,28 +82,10 @@ def command(
     fig = sample_figure(
         result.channels, f"{ctx.name} on {params.surface}: {name} ({result.status})"
     )
-    with atomic_path(png) as tmp:
-        fig.savefig(tmp, format="png", dpi=110)
+    save_figure(fig, png, dpi=110)
     status = "ok" if result.ok else f"FAILED: {result.error}"
     console.print(f"{name}: {status} in {result.wall_time:.2f} s -> {csv}, {png}")
     for key, value in result.scalars.items():
         console.print(f"  {key:22s} {value:10.4f}")
     if not result.ok:
         raise typer.Exit(1)
-
-
-def _parse_points(text: str, unit: str) -> np.ndarray:
-    import numpy as np
-
-    from ftfof.errors import ParamsError
-
-    scale = {"m": 1.0, "mm": 1e-3}.get(unit)
-    if scale is None:
-        raise ParamsError("--unit", f"must be m or mm (got {unit!r})")
-    try:
-        values = [float(v) for v in text.split(",")]
-    except ValueError:
-        raise ParamsError("--points", "must be 12 comma-separated numbers") from None
-    if len(values) != 12:
-        raise ParamsError("--points", f"needs 12 values P3x..P12z (got {len(values)})")
-    return np.array(values) * scale

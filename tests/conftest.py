@@ -12,8 +12,8 @@ import yaml
 from typer.testing import CliRunner
 
 from ftfof.config import Params
+from ftfof.robot import RobotContext, robot_context
 from stages.cli import app
-from stages.robot import RobotContext, robot_context
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA = Path(__file__).resolve().parent / "data"

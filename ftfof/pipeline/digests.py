@@ -1,15 +1,29 @@
-"""Content digests: the one way the pipeline names a file or a set of files by what they hold."""
+"""Content digests: the one way the pipeline names a file, a set of files or settings by what
+they hold. Each is SHA-256 hex, cut to ``length`` digits where a short name suffices."""
 
 from __future__ import annotations
 
 import hashlib
+import json
 from collections.abc import Iterable
 from pathlib import Path
 
+from ftfof.errors import DataError
 
-def file_sha256(path: Path) -> str:
-    """Full SHA-256 hex of one file's bytes."""
-    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+def bytes_sha256(data: bytes, length: int = 64) -> str:
+    """SHA-256 hex of ``data``, its first ``length`` digits."""
+    return hashlib.sha256(data).hexdigest()[:length]
+
+
+def file_sha256(path: Path, length: int = 64) -> str:
+    """SHA-256 hex of one file's bytes."""
+    return bytes_sha256(path.read_bytes(), length)
+
+
+def json_sha256(data: object, length: int = 64) -> str:
+    """SHA-256 of ``data`` as canonical JSON (sorted keys; other objects as their ``str``)."""
+    return bytes_sha256(json.dumps(data, sort_keys=True, default=str).encode(), length)
 
 
 def files_sha256(paths: Iterable[Path], length: int = 16) -> str:
@@ -18,3 +32,19 @@ def files_sha256(paths: Iterable[Path], length: int = 16) -> str:
     for path in sorted(paths, key=lambda p: p.name):
         h.update(path.name.encode() + b"\0" + path.read_bytes() + b"\0")
     return h.hexdigest()[:length]
+
+
+def models_digest(directory: Path) -> str:
+    """Names a set of trained surrogates: every file in the model directory.
+
+    The train run is tagged with it, so a later stage finds the run that produced its models
+    without a run id inside the (DVC-tracked) model directory.
+    """
+    if not directory.is_dir():
+        raise DataError(str(directory), "no trained models (run `ftfof train` first)")
+    return files_sha256(p for p in directory.iterdir() if p.is_file())
+
+
+def optimum_digest(directory: Path) -> str:
+    """Names an optimum.json: the optimize run carries it, the evaluate run looks it up."""
+    return file_sha256(directory / "optimum.json", 16)

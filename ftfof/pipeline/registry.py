@@ -14,18 +14,12 @@ from pathlib import Path
 
 from ftfof.errors import DataError
 from ftfof.pipeline.digests import file_sha256
-
-TARGETS = ("Fd", "Fp")
+from ftfof.surrogate.store import TARGETS, weights_file
 
 
 def model_name(robot: str, target: str, loss: str) -> str:
     """The registered model's name, e.g. ``ftfof-mst_m3f-Fd-dilate``."""
     return f"ftfof-{robot}-{target}-{loss}"
-
-
-def weights_file(target: str, loss: str) -> str:
-    """The state-dict file of one model, in ``data/models`` and in the model version alike."""
-    return f"{target}_{loss}.pt"
 
 
 @dataclass(frozen=True)

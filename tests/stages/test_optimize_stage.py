@@ -9,9 +9,9 @@ import pytest
 from typer.testing import CliRunner
 
 from ftfof.config import Params
+from ftfof.robot import robot_context
 from ftfof.trajectory.bezier import DECISION_NAMES
 from stages.cli import app
-from stages.robot import robot_context
 from tests.conftest import cli_args, train_models, write_params
 
 runner = CliRunner()

@@ -5,7 +5,7 @@ import json
 import pytest
 import torch
 
-from stages.surrogates import load_surrogate
+from ftfof.surrogate.store import load_surrogate
 
 
 def test_models_load_with_weights_only(trained):

@@ -7,9 +7,9 @@ import pytest
 
 from ftfof.config import Params
 from ftfof.errors import InfeasibleRobotError
+from ftfof.robot import robot_context
 from ftfof.trajectory.bezier import DECISION_NAMES
 from ftfof.trajectory.policy import KINDS
-from stages.robot import robot_context
 from tests.conftest import PUBLISHED_M3F
 
 

@@ -1,4 +1,4 @@
-"""The selected robot, resolved once per stage: preset, limits and constraint policy."""
+"""The selected robot, resolved once per run: preset, limits and constraint policy."""
 
 from __future__ import annotations
 

@@ -1,24 +1,36 @@
-"""Reading the dataset for training, and the trained surrogates for optimisation (stage IO)."""
+"""The surrogates on disk: the dataset as training arrays, and the model directory, whose format
+is defined here once, by its writer and its reader side by side.
+
+A model directory holds one state dict per target and loss (``torch.load(weights_only=True)``),
+``normalization.json`` and ``config.json``; it is written whole or not at all.
+"""
 
 from __future__ import annotations
 
-import hashlib
 import json
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pyarrow as pa
 import pyarrow.parquet as pq
 
+from ftfof.config import Train
 from ftfof.data import dataset
 from ftfof.errors import DataError
-from ftfof.pipeline.digests import files_sha256
+from ftfof.pipeline.digests import bytes_sha256
+from ftfof.pipeline.io import atomic_dir, read_table
 from ftfof.surrogate.predict import GRUWeights, Surrogate
-from stages.common import read_table
 
 FILE = "samples.parquet"
+TARGETS = ("Fd", "Fp")
+
+
+def weights_file(target: str, loss: str) -> str:
+    """The state-dict file of one model, in the model directory and in the registry alike."""
+    return f"{target}_{loss}.pt"
 
 
 @dataclass
@@ -73,8 +85,34 @@ def read_dataset(directory: Path) -> TrainingData:
     if not np.any(np.array(table.column("split").to_pylist()) == "train"):
         raise DataError(str(path), "has no training samples")
     norm = dataset.Normalization(**meta["normalization"])
-    digest = hashlib.sha256(meta_raw[dataset.METADATA_KEY]).hexdigest()[:16]
+    digest = bytes_sha256(meta_raw[dataset.METADATA_KEY], 16)
     return TrainingData(table, norm, meta["seq_len"], meta["hold"], digest)
+
+
+def write_models(out: Path, results: list[dict[str, Any]], data: TrainingData, cfg: Train) -> None:
+    """State dicts of the trained ``results``, normalisation and config, all or nothing."""
+    import torch
+
+    with atomic_dir(out) as tmp:
+        for r in results:
+            state = {k: torch.from_numpy(v) for k, v in r["state"].items()}
+            torch.save(state, tmp / weights_file(r["target"], r["kind"]))
+        (tmp / "normalization.json").write_text(data.normalization.to_json() + "\n")
+        config = {
+            "model": {
+                "inputs": 4,
+                "hidden": cfg.hidden,
+                "layers": cfg.layers,
+                "dropout": cfg.dropout,
+            },
+            "targets": list(TARGETS),
+            "losses": list(cfg.losses),
+            "use": cfg.use,
+            "seq_len": data.seq_len,
+            "hold": data.hold,
+            "dataset": data.metadata_digest,
+        }
+        (tmp / "config.json").write_text(json.dumps(config, indent=2, sort_keys=True) + "\n")
 
 
 def load_surrogate(
@@ -93,22 +131,11 @@ def load_surrogate(
     config = json.loads(config_path.read_text())
     loss = loss or config["use"]
     models = []
-    for target in ("Fd", "Fp"):
-        path = (weights or {}).get(target) or directory / f"{target}_{loss}.pt"
+    for target in TARGETS:
+        path = (weights or {}).get(target) or directory / weights_file(target, loss)
         if not path.exists():
             raise DataError(str(path), f"missing model for {target} with the {loss} loss")
         state = torch.load(path, weights_only=True)
         models.append(GRUWeights.from_state({k: v.numpy() for k, v in state.items()}))
     norm = dataset.Normalization.from_json((directory / "normalization.json").read_text())
     return Surrogate(models[0], models[1], norm, config["seq_len"], config["hold"])
-
-
-def models_digest(directory: Path) -> str:
-    """SHA-256 (16 hex) of every file in the model directory: names a set of trained surrogates.
-
-    The train stage tags its MLflow run with it, so a later stage can find the run that produced
-    the models it used without storing a run id inside the (DVC-tracked) model directory.
-    """
-    if not directory.is_dir():
-        raise DataError(str(directory), "no trained models (run `ftfof train` first)")
-    return files_sha256(p for p in directory.iterdir() if p.is_file())

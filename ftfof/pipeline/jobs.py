@@ -1,11 +1,15 @@
-"""An acquisition job on disk: inputs, resumable pending parts, compaction and metrics.
+"""A resumable simulation job on disk: manifest, pending parts, compaction, failure policy and
+statistics.
 
-Shared by the `acquire` stage and by `evaluate` (which re-simulates the optimum and baselines).
+Results are written as they complete, one atomic Parquet part per finished batch under
+``<out>/pending/``; a killed run re-run resumes from them (a manifest fingerprint of the inputs,
+params and code versions guards against mixing runs). When every sample is in, the parts are
+compacted into one canonical ``samples.parquet`` sorted by key, so the output does not depend on
+completion order. Shared by `acquire` and `evaluate` (which re-simulates the optimum and baselines).
 """
 
 from __future__ import annotations
 
-import hashlib
 import json
 import shutil
 import time
@@ -22,14 +26,15 @@ from ftfof.config import Params
 from ftfof.data.acquisition import ACQUISITION, PENDING, to_table
 from ftfof.data.schema import TRAJECTORIES
 from ftfof.errors import DataError, SimulationError
+from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench
+from ftfof.pipeline.console import progress
+from ftfof.pipeline.digests import bytes_sha256, file_sha256, json_sha256
+from ftfof.pipeline.io import atomic_path, read_table, write_json, write_parquet
+from ftfof.robot import RobotContext, robot_context
 from ftfof.sim import pool
 from ftfof.sim.simulate import SampleResult
-from ftfof.sim.spec import Bench, SampleSpec
-from ftfof.trajectory.baselines import common_trajectories
+from ftfof.sim.spec import SampleSpec
 from ftfof.trajectory.bezier import DECISION_NAMES
-from stages.common import atomic_path, progress, read_table, write_json, write_parquet
-from stages.params import load_params
-from stages.robot import RobotContext, robot_context
 
 FINAL = "samples.parquet"
 PENDING_DIR = "pending"
@@ -48,9 +53,9 @@ class Acquisition:
 
     @classmethod
     def prepare(
-        cls, params_path: Path, trajectories: Path, out: Path, limit: int | None = None
+        cls, params: Params, trajectories: Path, out: Path, limit: int | None = None
     ) -> Acquisition:
-        params = load_params(params_path)
+        """The `acquire` job: every sampled trajectory (the first ``limit``) and the baselines."""
         ctx = robot_context(params)
         table = read_table(trajectories, TRAJECTORIES, "trajectory table")
         robots = set(table.column("robot").to_pylist())
@@ -62,19 +67,14 @@ class Acquisition:
             )
         if limit is not None:
             table = table.slice(0, limit)
-        bench = Bench(
-            ctx.robot, params.selected_surface, params.platform, params.acquire, params.base.seed
-        )
+        on = bench(params, ctx)
         X = np.column_stack([table.column(n).to_numpy() for n in DECISION_NAMES])
         ids = table.column("sample_id").to_numpy()
-        specs = [bench.bezier("sampled", int(i), x) for i, x in zip(ids, X, strict=True)]
+        specs = [on.bezier("sampled", int(i), x) for i, x in zip(ids, X, strict=True)]
         controls = {s.key: x for s, x in zip(specs, X, strict=True)}
         if params.acquire.baselines:
-            for name, traj in common_trajectories(
-                ctx.policy, params.baselines, params.base.seed
-            ).items():
-                specs.append(bench.analytic(f"baseline:{name}", 0, traj))
-        inputs = {"trajectories": file_digest(trajectories), "limit": limit}
+            specs += baseline_specs(on, baseline_trajectories(params, ctx))
+        inputs = {"trajectories": file_sha256(trajectories), "limit": limit}
         return cls.start(params, ctx, out, specs, controls, inputs)
 
     @classmethod
@@ -88,7 +88,7 @@ class Acquisition:
         inputs: dict[str, object],
     ) -> Acquisition:
         """A job over ``specs``, resumable while the physics settings and ``inputs`` hold."""
-        key = fingerprint(
+        key = json_sha256(
             {
                 "robot": ctx.robot.model_dump(),
                 "surface": params.selected_surface.model_dump(),
@@ -162,7 +162,7 @@ class Acquisition:
 
     def _write_part(self, results: Sequence[SampleResult]) -> None:
         table = self._table(results)
-        name = hashlib.sha256("|".join(sorted(r.key for r in results)).encode()).hexdigest()[:16]
+        name = bytes_sha256("|".join(sorted(r.key for r in results)).encode(), 16)
         write_parquet(self.pending / f"part-{name}.parquet", table)
 
     def _table(self, results: Sequence[SampleResult]) -> pa.Table:
@@ -263,15 +263,8 @@ def summarize(table: pa.Table, bend_limit: float, wall: float, simulated: int) -
     }
 
 
-def fingerprint(parts: dict[str, object]) -> str:
-    return hashlib.sha256(json.dumps(parts, sort_keys=True, default=str).encode()).hexdigest()
-
-
-def file_digest(path: Path) -> str:
-    return hashlib.sha256(path.read_bytes()).hexdigest()
-
-
 def versions() -> dict[str, str]:
+    """The code that made a job's numbers: part of its fingerprint and of the dataset's metadata."""
     import exudyn
 
     return {"ftfof": ftfof.__version__, "exudyn": exudyn.__version__}

@@ -1,4 +1,5 @@
-"""MLflow conventions: where the store is and what every run is tagged with (DESIGN §8)."""
+"""MLflow conventions: where the store is, what every run is tagged with, and how a run links to
+the run that made its inputs (DESIGN §8)."""
 
 from __future__ import annotations
 
@@ -8,12 +9,17 @@ import subprocess
 import warnings
 from pathlib import Path
 
-from stages.common import repo_root
-
 EXPERIMENT_PREFIX = "ftfof"
 MODELS_DIGEST_TAG = "ftfof.models_digest"  # on the train run that wrote data/models
 OPTIMUM_DIGEST_TAG = "ftfof.optimum_digest"  # on the optimize run that wrote data/optimize
+SURROGATE_RUN_TAG = "ftfof.surrogate_run"  # on an optimize run: the train run of its models
+OPTIMIZE_RUN_TAG = "ftfof.optimize_run"  # on an evaluate run: the optimize run of its optimum
 DATASET_SOURCE = "data/dataset/samples.parquet"  # the training data's path in the repository
+
+
+def repo_root() -> Path:
+    """The DVC project root when run by DVC, else the working directory."""
+    return Path(os.environ.get("DVC_ROOT", ".")).resolve()
 
 
 def project_root() -> Path:
@@ -117,6 +123,25 @@ def link_note(mlflow, experiment: str, what: str, run_id: str) -> str:
     """Markdown for the run description: a link to another run of the same experiment."""
     experiment_id = mlflow.get_experiment_by_name(experiment).experiment_id
     return f"{what}: run [{run_id}](#/experiments/{experiment_id}/runs/{run_id})"
+
+
+def link_tags(
+    mlflow,
+    experiment: str,
+    source: str,
+    digest_tag: str,
+    digest: str,
+    link_tag: str,
+    what: str,
+    detail: str = "",
+) -> tuple[dict[str, str], str | None]:
+    """Tags linking a run to the latest ``source`` run whose ``digest_tag`` is ``digest``, and
+    that run's id (None when this store has none): the one way runs name their inputs' runs."""
+    run_id = latest_run(mlflow, experiment, source, digest_tag, digest)
+    out = {digest_tag: digest, link_tag: run_id or "unknown"}
+    if run_id:
+        out["mlflow.note.content"] = link_note(mlflow, experiment, what, run_id) + detail
+    return out, run_id
 
 
 def dataset_input(path: Path):

@@ -1,0 +1,247 @@
+"""The evaluation of an optimum from its re-simulations: front sampling, the Table I analogue,
+surrogate fidelity, the controller export, the metrics and the report's values.
+
+Every number here comes from the simulations, never from the surrogates, whose predictions are
+only compared with them (surrogate fidelity).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from ftfof.config import Params
+from ftfof.errors import SimulationError
+from ftfof.evaluate.export import ControllerTrajectory, ExportRateError, controller_trajectory
+from ftfof.evaluate.fidelity import Fidelity, SimulatedForces, fidelity, simulated_objectives
+from ftfof.evaluate.table import PAPER_TABLE_I, PEAKS, TableRow, table_one
+from ftfof.kinematics.legs import build_leg
+from ftfof.robot import RobotContext
+from ftfof.surrogate.predict import Surrogate
+from ftfof.trajectory.bezier import DECISION_NAMES
+
+OPTIMUM = "optimum"
+PARETO = (
+    ("optimize_star.png", "Pareto front, star coordinates (cf. FTFOF Fig. 10)"),
+    ("optimize_pcp.png", "Pareto front, parallel coordinates"),
+    ("optimize_convergence.png", "NSGA-II convergence: normalised hypervolume, feasible count"),
+)
+TRAINING = (
+    ("train_loss.png", "Training and validation loss per model (cf. FTFOF Fig. 8)"),
+    ("train_predictions.png", "Validation predictions against simulation (cf. FTFOF Fig. 9)"),
+)
+PLOTTED = ("t", "x_cmd", "z_cmd", "Fd", "Fp", "body_acc")  # channels the report's figures use
+
+
+@dataclass
+class Inputs:
+    """What `optimize` left: the chosen row and the front it came from, checked against params."""
+
+    optimum: dict[str, Any]
+    front: pd.DataFrame  # indexed by front row
+    objectives: list[str]
+    digest: str
+
+
+def front_sample(inputs: Inputs, k: int) -> list[int]:
+    """``k`` front rows spread evenly along the priority-sorted front, the optimum left out."""
+    front = inputs.front
+    rows = front.index[front.recheck_feasible & (front.index != inputs.optimum["front_row"])]
+    rows = rows.to_numpy()
+    if k == 0 or rows.size == 0:
+        return []
+    picks = np.unique(np.round(np.linspace(0, rows.size - 1, min(k, rows.size))).astype(int))
+    return [int(r) for r in rows[picks]]
+
+
+def decision(inputs: Inputs, row: int) -> np.ndarray:
+    """The decision variables (m) of one front row."""
+    return inputs.front.loc[row, list(DECISION_NAMES)].to_numpy(dtype=float)
+
+
+def ok_rows(df: pd.DataFrame, reference: str) -> pd.DataFrame:
+    """The simulations that succeeded; a clear error when the optimum or the reference failed."""
+    for source in (OPTIMUM, f"baseline:{reference}"):
+        row = df[df.source == source]
+        if row.empty or row.iloc[0].status != "ok":
+            error = row.iloc[0].error if not row.empty else "missing"
+            raise SimulationError(source, f"re-simulation failed: {error}")
+    return df[df.status == "ok"]
+
+
+def compared(df: pd.DataFrame) -> dict[str, pd.Series]:
+    """The baselines then the optimum, by display name: the rows of the table and the figures."""
+    sources = [s for s in df.source if s.startswith("baseline:")] + [OPTIMUM]
+    return {s.removeprefix("baseline:"): df[df.source == s].iloc[0] for s in sources}
+
+
+def table_rows(df: pd.DataFrame, reference: str) -> list[TableRow]:
+    """The Table I analogue: baselines' and optimum's peaks, change against ``reference``."""
+    peaks = {name: {c: float(row[c]) for c, _, _ in PEAKS} for name, row in compared(df).items()}
+    return table_one(peaks, reference)
+
+
+def forces(row: pd.Series) -> SimulatedForces:
+    return SimulatedForces(*(np.asarray(row[c], dtype=float) for c in ("t", "Fd", "Fp")))
+
+
+def fidelity_of(
+    inputs: Inputs, df: pd.DataFrame, ctx: RobotContext, surrogate: Surrogate
+) -> tuple[list[Fidelity], np.ndarray, np.ndarray]:
+    """Predicted (as the optimiser saw them) and simulated objectives; the optimum is row 0."""
+    names = inputs.objectives
+    sims = df[df.source.isin([OPTIMUM, "front"])]
+    sims = sims.assign(first=sims.source != OPTIMUM).sort_values(["first", "sample_id"])
+    predicted = inputs.front.loc[sims.sample_id, names].to_numpy(dtype=float)
+    X = sims[list(DECISION_NAMES)].to_numpy(dtype=float)
+    simulated = simulated_objectives(
+        names,
+        ctx.policy,
+        X,
+        [forces(r) for _, r in sims.iterrows()],
+        surrogate.time_base(ctx.policy.timing.T3),
+        surrogate.hold,
+        ctx.robot.pre_pressure,
+    )
+    return fidelity(names, predicted, simulated), predicted, simulated
+
+
+def export(ctx: RobotContext, inputs: Inputs, rate: float) -> ControllerTrajectory:
+    """The optimum as joint commands at ``rate`` Hz for the robot's controller."""
+    X = np.array([inputs.optimum["decision"][n] for n in DECISION_NAMES])
+    try:
+        return controller_trajectory(ctx.policy, build_leg(ctx.robot.leg), X, rate)
+    except ExportRateError as err:
+        raise SimulationError("evaluate.export_rate_hz", str(err)) from None
+    except ValueError as err:  # the optimum leaves the leg's reach
+        raise SimulationError("optimum export", str(err)) from None
+
+
+def metrics(
+    params: Params,
+    inputs: Inputs,
+    rows: list[TableRow],
+    fid: list[Fidelity],
+    controller: ControllerTrajectory,
+    n_fidelity: int,
+) -> dict[str, Any]:
+    """The stage's metrics: Table I changes, the paper's, fidelity and the export."""
+
+    def entry(row) -> dict:
+        out = {}
+        for c, _, _ in PEAKS:
+            out[c] = round(row.values[c], 4)
+            out[f"{c}_change"] = round(row.change[c], 2)
+        return out
+
+    paper = {r.trajectory: r for r in table_one(PAPER_TABLE_I, "polynomial")}["optimal"]
+    return {
+        "robot": params.robot,
+        "surface": params.surface,
+        "reference": params.evaluate.reference,
+        "table": {r.trajectory: entry(r) for r in rows},
+        "paper_optimal_change_vs_polynomial": {c: round(paper.change[c], 2) for c, _, _ in PEAKS},
+        "fidelity": {f.objective: f.as_dict() for f in fid},
+        "fidelity_points": n_fidelity,
+        "optimum_front_row": inputs.optimum["front_row"],
+        "export": {
+            "rows": int(controller.table.shape[0]),
+            "rate_hz": params.evaluate.export_rate_hz,
+            "within_joint_limits": controller.within_joint_limits,
+            "peak_joint_speed": [round(float(v), 4) for v in controller.peak_joint_speed],
+        },
+    }
+
+
+def simulation_figures(
+    df: pd.DataFrame, predicted: np.ndarray, simulated: np.ndarray, objectives: list[str]
+) -> dict[str, str]:
+    """Fig. 11, 12, 14 from the simulated channels of the optimum and baselines; fidelity."""
+    from ftfof.report.evaluation import fidelity_figure, forces_figure, jitter_figure, paths_figure
+    from ftfof.report.html import figure_data_uri
+
+    channels = {
+        name: {c: np.asarray(row[c], dtype=float) for c in PLOTTED}
+        for name, row in compared(df).items()
+    }
+    return {
+        "paths": figure_data_uri(paths_figure(channels, OPTIMUM)),
+        "forces": figure_data_uri(forces_figure(channels, OPTIMUM)),
+        "jitter": figure_data_uri(jitter_figure(channels, OPTIMUM)),
+        "fidelity": figure_data_uri(fidelity_figure(objectives, predicted, simulated, 0)),
+    }
+
+
+def context(
+    params: Params,
+    ctx: RobotContext,
+    inputs: Inputs,
+    rows: list[TableRow],
+    fid: list[Fidelity],
+    summary: dict[str, Any],
+    predicted: np.ndarray,
+    simulated: np.ndarray,
+) -> dict[str, Any]:
+    """The report template's values, but for the figures and the export path."""
+    import exudyn
+
+    export = summary["export"]
+    return {
+        "robot": ctx.name,
+        "surface": params.surface,
+        "models_digest": inputs.optimum["models_digest"],
+        "exudyn": exudyn.__version__,
+        "optimum_row": inputs.optimum["front_row"],
+        "front_size": len(inputs.front),
+        "reference": params.evaluate.reference,
+        "columns": [{"key": c, "label": label, "unit": unit} for c, label, unit in PEAKS],
+        "table": [
+            {"trajectory": r.trajectory, "values": r.values, "change": r.change} for r in rows
+        ],
+        "paper": summary["paper_optimal_change_vs_polynomial"],
+        "fidelity": [{"objective": f.objective, **f.as_dict()} for f in fid],
+        "front_points": len(predicted) - 1,
+        "objectives": inputs.objectives,
+        "optimum_predicted": predicted[0].tolist(),
+        "optimum_simulated": simulated[0].tolist(),
+        "pareto": PARETO,
+        "training": TRAINING,
+        "export": {
+            "rows": export["rows"],
+            "rate": export["rate_hz"],
+            "duration": float(ctx.policy.timing.T3),
+            "leg": ctx.robot.leg.type,
+            "within_limits": export["within_joint_limits"],
+            "peak_speed": ", ".join(f"{v:.2f}" for v in export["peak_joint_speed"]),
+        },
+    }
+
+
+@dataclass
+class Evaluation:
+    summary: dict[str, Any]  # the stage's metrics
+    context: dict[str, Any]  # the report's values but the figures and the export path
+    figures: dict[str, str]  # the figures from the simulations, as data URIs
+    controller: ControllerTrajectory  # the optimum for the robot's controller
+
+
+def evaluate(
+    params: Params,
+    ctx: RobotContext,
+    inputs: Inputs,
+    simulations: pd.DataFrame,
+    surrogate: Surrogate,
+) -> Evaluation:
+    """Everything the report shows, from the re-simulations of the optimum, front and baselines."""
+    cfg = params.evaluate
+    table = ok_rows(simulations, cfg.reference)
+    rows = table_rows(table, cfg.reference)
+    fid, predicted, simulated = fidelity_of(inputs, table, ctx, surrogate)
+    controller = export(ctx, inputs, cfg.export_rate_hz)
+    summary = metrics(params, inputs, rows, fid, controller, len(predicted))
+    figures = simulation_figures(table, predicted, simulated, inputs.objectives)
+    values = context(params, ctx, inputs, rows, fid, summary, predicted, simulated)
+    return Evaluation(summary, values, figures, controller)

@@ -1,0 +1,186 @@
+"""From a search to one trajectory: recheck the front, choose by RHS, and the output tables.
+
+The front is re-checked against the constraint policy on a finer time grid than the optimiser
+used, and the choice is made among the rows that pass: the chosen trajectory is feasible when
+checked independently of the search.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import pyarrow as pa
+
+from ftfof.config import Optimize, Params
+from ftfof.errors import OptimizationError
+from ftfof.optimize.problem import PopulationEvaluation, TrajectoryProblem
+from ftfof.optimize.rhs import RHSResult, rhs_trace
+from ftfof.optimize.search import SearchResult
+from ftfof.robot import RobotContext
+from ftfof.trajectory.bezier import DECISION_NAMES, control_points
+from ftfof.trajectory.policy import ConstraintPolicy, FeasibilityReport
+
+
+@dataclass
+class Outcome:
+    """The search's front, its independent recheck, and the RHS choice among the rows that pass."""
+
+    evaluation: PopulationEvaluation  # the front sorted by objectives in priority order
+    recheck: FeasibilityReport  # on the fine grid, every rule
+    passing: np.ndarray  # front rows feasible on the fine grid
+    index: int  # the chosen front row
+    rhs: RHSResult  # over the passing rows (indices mapped back to front rows on output)
+    summary: dict[str, Any]  # the stage's metrics
+
+
+def choose(
+    params: Params,
+    ctx: RobotContext,
+    problem: TrajectoryProblem,
+    result: SearchResult,
+    models_digest: str,
+) -> Outcome:
+    """Recheck the front on ``optimize.recheck_samples`` points; RHS among the rows that pass."""
+    cfg = params.optimize
+    policy = ctx.policy
+    if not result.feasible:
+        worst = policy.check(policy.expand(result.X)).failed(0)
+        raise OptimizationError(
+            "optimize",
+            f"no feasible trajectory after {result.generations} generations; the least "
+            f"infeasible violates {'; '.join(worst[:3])} (try optimize.seeded_start: true or "
+            "more generations)",
+        )
+    order = np.lexsort(result.F.T[::-1])  # priority order: first objective is the primary key
+    free = result.X[order]
+    evaluation = problem.evaluate_population(free)
+    fine = ConstraintPolicy(
+        ctx.robot,
+        ctx.limits,
+        params.feasibility.model_copy(update={"n_t": cfg.recheck_samples}),
+        ctx.name,
+    )
+    recheck = fine.check(evaluation.X)
+    passing = np.flatnonzero(recheck.feasible)
+    if passing.size == 0:
+        raise OptimizationError(
+            "optimize",
+            f"none of the {len(free)} front members passes the recheck on "
+            f"{cfg.recheck_samples} samples (first: {'; '.join(recheck.failed(0)[:3])})",
+        )
+    n_obj = evaluation.F.shape[1]
+    rhs = rhs_trace(evaluation.F[passing], list(range(n_obj)), cfg.rhs_alpha, cfg.rhs_beta)
+    index = int(passing[rhs.index])
+    names = list(ctx.robot.objectives)
+    final = result.history[-1]
+    summary = {
+        "robot": ctx.name,
+        "surface": params.surface,
+        "objectives": names,
+        "population": cfg.population,
+        "generations": result.generations,
+        "evaluations": result.evaluations,
+        "seconds": round(result.seconds, 2),
+        "ms_per_generation": round(1e3 * result.seconds / result.generations, 2),
+        "hypervolume": final.hypervolume,
+        "feasible_in_final_population": final.feasible,
+        "front": {
+            "size": len(free),
+            "passing_recheck": int(passing.size),
+            "rejected_by_recheck": int(len(free) - passing.size),
+            "recheck_samples": cfg.recheck_samples,
+        },
+        "optimum": {
+            "row": index,
+            "objectives": dict(zip(names, map(float, evaluation.F[index]), strict=True)),
+            "decision_mm": {
+                n: round(1e3 * float(v), 4)
+                for n, v in zip(DECISION_NAMES, evaluation.X[index], strict=True)
+            },
+            "rhs_tie_break": rhs.tie_break,
+        },
+        "models_digest": models_digest,
+    }
+    return Outcome(evaluation, recheck, passing, index, rhs, summary)
+
+
+def front_table(outcome: Outcome, ctx: RobotContext, models_digest: str) -> pa.Table:
+    """Every front row: decision, objectives, violations, recheck and choice; units in metadata."""
+    ev, names = outcome.evaluation, list(ctx.robot.objectives)
+    rules = ev.violations.names
+    chosen = np.zeros(len(ev.X), dtype=bool)
+    chosen[outcome.index] = True
+    passing = np.zeros(len(ev.X), dtype=bool)
+    passing[outcome.passing] = True
+    columns = {
+        "row": np.arange(len(ev.X), dtype=np.int64),
+        **{n: ev.X[:, j] for j, n in enumerate(DECISION_NAMES)},
+        **{n: ev.F[:, j] for j, n in enumerate(names)},
+        **{f"g:{rule}": ev.violations.violations[:, j] for j, rule in enumerate(rules)},
+        "recheck_feasible": passing,
+        "chosen": chosen,
+    }
+    meta = {
+        "robot": ctx.name,
+        "objectives": names,
+        "free_variables": list(ctx.policy.free_names),
+        "units": "decision variables in m; objectives in N (fs1-fs3), m (fs4, fs5), "
+        "dimensionless (fs7); g: columns are violations in the rule's units, > 0 violated",
+        "models_digest": models_digest,
+    }
+    table = pa.table(columns)
+    return table.replace_schema_metadata({"ftfof": json.dumps(meta, sort_keys=True)})
+
+
+def optimum_record(
+    outcome: Outcome, ctx: RobotContext, cfg: Optimize, models_digest: str
+) -> dict[str, Any]:
+    """The chosen trajectory for the evaluate stage and for people: no timings, so reproducible."""
+    ev, i = outcome.evaluation, outcome.index
+    policy, names = ctx.policy, list(ctx.robot.objectives)
+    timing = policy.timing
+    points = control_points(ev.X[i : i + 1], policy.p0, policy.p15, timing)[0]
+    rows = outcome.passing
+
+    def step(s) -> dict:
+        d = s.as_dict()
+        d["objective"] = names[s.objective]
+        d["remaining"] = [int(rows[r]) for r in s.remaining]  # as front rows
+        return d
+
+    fine = outcome.recheck
+    return {
+        "robot": ctx.name,
+        "front_row": i,
+        "decision": dict(zip(DECISION_NAMES, map(float, ev.X[i]), strict=True)),
+        "control_points": points.tolist(),
+        "timing": {"T1": timing.T1, "T2": timing.T2, "T3": timing.T3},
+        "objectives": dict(zip(names, map(float, ev.F[i]), strict=True)),
+        "predicted": {"t": ev.t.tolist(), "Fd": ev.Fd[i].tolist(), "Fp": ev.Fp[i].tolist()},
+        "rhs": {
+            "alpha": cfg.rhs_alpha,
+            "beta": cfg.rhs_beta,
+            "among_rows": len(rows),
+            "steps": [step(s) for s in outcome.rhs.steps],
+            "tie_break": outcome.rhs.tie_break,
+        },
+        "recheck": {
+            "samples": cfg.recheck_samples,
+            "violation": {n: float(v) for n, v in zip(fine.names, fine.violations[i], strict=True)},
+        },
+        "models_digest": models_digest,
+    }
+
+
+def convergence_csv(records: list[dict[str, Any]]) -> str:
+    """The convergence history as CSV text: one line per logged generation."""
+    header = "generation,evaluations,feasible,front,hypervolume\n"
+    lines = [
+        f"{r['generation']},{r['evaluations']},{r['feasible']},{r['front']},"
+        f"{r['hypervolume']:.8g}\n"
+        for r in records
+    ]
+    return header + "".join(lines)

@@ -1,0 +1,54 @@
+"""The simulated bench of a run and the baselines on it, built one way for every command."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+
+import numpy as np
+
+from ftfof.config import Params, Surface
+from ftfof.errors import ParamsError
+from ftfof.robot import RobotContext
+from ftfof.sim.spec import Bench, SampleSpec
+from ftfof.trajectory.baselines import common_trajectories
+from ftfof.trajectory.piecewise import Sampled
+
+
+def bench(params: Params, ctx: RobotContext, surface: Surface | None = None) -> Bench:
+    """The platform with the selected robot on ``surface`` (default: the selected surface)."""
+    return Bench(
+        ctx.robot,
+        surface or params.selected_surface,
+        params.platform,
+        params.acquire,
+        params.base.seed,
+    )
+
+
+def baseline_trajectories(params: Params, ctx: RobotContext) -> dict[str, Sampled]:
+    """The common trajectories every optimum is compared with, from this run's seed."""
+    return common_trajectories(ctx.policy, params.baselines, params.base.seed)
+
+
+def baseline_specs(
+    on: Bench, trajectories: Mapping[str, Sampled], names: Iterable[str] | None = None
+) -> list[SampleSpec]:
+    """One spec per baseline (``names`` in order; default all), keyed ``baseline:<name>``."""
+    return [
+        on.analytic(f"baseline:{n}", 0, trajectories[n])
+        for n in (trajectories if names is None else names)
+    ]
+
+
+def parse_points(text: str, unit: str) -> np.ndarray:
+    """The 12 control values P3x..P12x, P3z..P12z as written on a command line, in metres."""
+    scale = {"m": 1.0, "mm": 1e-3}.get(unit)
+    if scale is None:
+        raise ParamsError("--unit", f"must be m or mm (got {unit!r})")
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        raise ParamsError("--points", "must be 12 comma-separated numbers") from None
+    if len(values) != 12:
+        raise ParamsError("--points", f"needs 12 values P3x..P12z (got {len(values)})")
+    return np.array(values) * scale

@@ -1,0 +1,69 @@
+"""The `dataset` run: acquisitions and imported logs -> one table of fixed-length sequences with
+the metadata (params digest, code versions, normalisation) that the surrogates are trained on."""
+
+from __future__ import annotations
+
+import json
+from collections import Counter
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pyarrow as pa
+
+from ftfof.config import Params
+from ftfof.data import dataset
+from ftfof.data.acquisition import ACQUISITION
+from ftfof.errors import DataError
+from ftfof.pipeline.digests import json_sha256
+from ftfof.pipeline.io import read_table
+from ftfof.pipeline.jobs import MANIFEST, versions
+
+
+@dataclass
+class Dataset:
+    table: pa.Table  # with the ftfof metadata
+    summary: dict[str, Any]  # the stage's metrics
+    figure: Any  # a few samples (matplotlib)
+
+
+def build(params: Params, acquisition: Path, imported: Path) -> Dataset:
+    """Resample every ok sample, split and normalise on train; a duplicate key is an error."""
+    from ftfof.report.figures import dataset_figure
+
+    tables = [read_table(acquisition / "samples.parquet", ACQUISITION, "acquisition")]
+    for path in sorted(imported.glob("*.parquet")) if imported.exists() else []:
+        tables.append(read_table(path, ACQUISITION, "imported log"))
+    table = pa.concat_tables(tables)
+    keys = table.column("key").to_pylist()
+    if dup := [k for k, c in Counter(keys).items() if c > 1]:
+        raise DataError("dataset", f"sample {dup[0]!r} appears twice (imported twice?)")
+    cfg = params.dataset
+    built, norm = dataset.build(table, cfg, params.base.seed + cfg.split_seed_offset)
+    manifest = acquisition / MANIFEST
+    sim_versions = json.loads(manifest.read_text()).get("versions", {}) if manifest.exists() else {}
+    meta = {
+        "params_hash": json_sha256(params.model_dump(), 16),
+        "robot": params.robot,
+        "surface": params.surface,
+        "exudyn": sim_versions.get("exudyn", versions()["exudyn"]),
+        "ftfof": versions()["ftfof"],
+        "seq_len": cfg.seq_len,
+        "hold": cfg.hold,
+        "normalization": json.loads(norm.to_json()),
+    }
+    built = built.replace_schema_metadata({dataset.METADATA_KEY: json.dumps(meta, sort_keys=True)})
+    splits = built.column("split").to_pylist()
+    summary = {
+        "samples": built.num_rows,
+        "excluded_failed": table.num_rows - built.num_rows,
+        "train": splits.count("train"),
+        "validation": splits.count("validation"),
+        "baseline": splits.count("baseline"),
+        "imported": built.column("source").to_pylist().count("imported"),
+        "seq_len": cfg.seq_len,
+        "peak_detachment_mean": float(np.nanmean(built.column("peak_detachment").to_numpy())),
+        "normalization": meta["normalization"],
+    }
+    return Dataset(built, summary, dataset_figure(built, cfg.plot_samples, params.base.seed))

@@ -1,0 +1,166 @@
+"""The `evaluate` run: read what `optimize` left, re-simulate it as a resumable job, evaluate,
+write the report, and track it in MLflow linked to the optimize run."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pyarrow.parquet as pq
+
+from ftfof.config import Params
+from ftfof.errors import DataError
+from ftfof.evaluate.run import (
+    OPTIMUM,
+    PARETO,
+    TRAINING,
+    Evaluation,
+    Inputs,
+    decision,
+    evaluate,
+    front_sample,
+)
+from ftfof.pipeline import tracking
+from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench
+from ftfof.pipeline.console import console
+from ftfof.pipeline.digests import models_digest, optimum_digest
+from ftfof.pipeline.io import atomic_path, write_json
+from ftfof.pipeline.jobs import FINAL, Acquisition
+from ftfof.robot import RobotContext, robot_context
+
+
+@dataclass(frozen=True)
+class Paths:
+    optimize: Path  # what `optimize` wrote
+    models: Path
+    figures: Path  # where the train/optimize PNGs are
+    out: Path  # the simulations of this evaluation
+    report: Path
+    metrics: Path
+    export: Path
+
+
+def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
+    """Re-simulate the optimum against the common trajectories; report, metrics, export."""
+    from ftfof.report.html import render
+    from ftfof.surrogate.store import load_surrogate
+
+    ctx = robot_context(params)
+    inputs = read_inputs(paths.optimize, ctx.name)
+    if inputs.optimum["models_digest"] != models_digest(paths.models):
+        raise DataError(
+            str(paths.optimize), f"was optimised on other models than {paths.models} (re-run it)"
+        )
+    surrogate = load_surrogate(paths.models)
+    pictures = {key: _picture(paths.figures / key) for key, _ in (*PARETO, *TRAINING)}
+    front_rows = front_sample(inputs, params.evaluate.front_points)
+    job = _job(params, ctx, paths.out, inputs, front_rows)
+    cfg = params.acquire
+    todo = job.remaining()
+    console.print(
+        f"evaluate {ctx.name} on {params.surface}: {len(job.specs)} simulations "
+        f"(optimum, {len(front_rows)} front members, baselines), {len(todo)} to run"
+    )
+    wall = job.simulate(
+        todo, cfg.workers if workers is None else workers, cfg.scheduler, "evaluate"
+    )
+    job.finish(wall, len(todo))
+    simulations = pq.read_table(job.out / FINAL).to_pandas()
+    result = evaluate(params, ctx, inputs, simulations, surrogate)
+    pictures.update(result.figures)
+    html = render({**result.context, "figures": pictures, "export_path": str(paths.export)})
+    controller = result.controller
+    with atomic_path(paths.export) as tmp:
+        header = ",".join(controller.columns)
+        np.savetxt(tmp, controller.table, delimiter=",", header=header, comments="", fmt="%.9g")
+    write_json(paths.metrics, result.summary)
+    with atomic_path(paths.report) as tmp:
+        tmp.write_text(html, encoding="utf-8")
+    _track(params, inputs, result.summary, (paths.report, paths.export, paths.metrics))
+    return result
+
+
+def read_inputs(directory: Path, robot: str) -> Inputs:
+    """The optimum and its front, checked to be of ``robot``; any problem is one DataError."""
+    path = directory / "optimum.json"
+    if not path.exists() or not (directory / "front.parquet").exists():
+        raise DataError(str(directory), "no optimum (run `ftfof optimize` first)")
+    try:
+        optimum = json.loads(path.read_text())
+        front = pq.read_table(directory / "front.parquet")
+        meta = json.loads(front.schema.metadata[b"ftfof"])
+    except (ValueError, KeyError, OSError) as err:
+        raise DataError(str(directory), f"unreadable optimize output ({err})") from None
+    if optimum.get("robot") != robot or meta.get("robot") != robot:
+        raise DataError(
+            str(directory),
+            f"holds an optimum for {optimum.get('robot')!r} but params select {robot!r} "
+            "(re-run `ftfof optimize`)",
+        )
+    frame = front.to_pandas().set_index("row")
+    return Inputs(optimum, frame, list(meta["objectives"]), optimum_digest(directory))
+
+
+def _picture(path: Path) -> str:
+    from ftfof.report.html import png_data_uri
+
+    if not path.exists():
+        raise DataError(str(path), "figure missing (run the stage that writes it)")
+    try:
+        return png_data_uri(path.read_bytes())
+    except ValueError:
+        raise DataError(str(path), "is not a PNG image") from None
+
+
+def _job(
+    params: Params, ctx: RobotContext, out: Path, inputs: Inputs, front_rows: list[int]
+) -> Acquisition:
+    """The optimum, the sampled front rows and the baselines, resumable under ``out``."""
+    on = bench(params, ctx)
+    chosen = inputs.optimum["front_row"]
+    specs, controls = [], {}
+    for source, row in [(OPTIMUM, chosen), *(("front", r) for r in front_rows)]:
+        X = decision(inputs, row)
+        spec = on.bezier(source, row, X)
+        specs.append(spec)
+        controls[spec.key] = X
+    specs += baseline_specs(on, baseline_trajectories(params, ctx))
+    return Acquisition.start(
+        params, ctx, out, specs, controls, {"optimum": inputs.digest, "front_rows": front_rows}
+    )
+
+
+def _track(params: Params, inputs: Inputs, summary: dict, artifacts: tuple[Path, ...]) -> None:
+    """An `evaluate` run with the table and fidelity as metrics, linked to its optimize run."""
+    experiment = tracking.experiment_name(params.robot)
+    mlflow = tracking.setup(experiment)
+    link, _ = tracking.link_tags(
+        mlflow,
+        experiment,
+        "optimize",
+        tracking.OPTIMUM_DIGEST_TAG,
+        inputs.digest,
+        tracking.OPTIMIZE_RUN_TAG,
+        "Optimum",
+    )
+    metrics = {
+        f"{name}.{key}": value
+        for name, row in summary["table"].items()
+        for key, value in row.items()
+    }
+    for objective, values in summary["fidelity"].items():
+        for key, value in values.items():
+            if value == value:  # MLflow rejects NaN
+                metrics[f"fidelity.{objective}.{key}"] = float(value)
+    with mlflow.start_run(run_name="evaluate", tags={**tracking.tags("evaluate"), **link}):
+        settings = {
+            "evaluate": params.evaluate.model_dump(),
+            "robot": params.robot,
+            "surface": params.surface,
+        }
+        mlflow.log_params(tracking.flatten(settings))
+        mlflow.log_metrics(metrics)
+        for path in artifacts:
+            mlflow.log_artifact(str(path), artifact_path="report")

@@ -1,0 +1,198 @@
+"""The `optimize` run: the search set up from params and the registered surrogates, its outputs,
+and its MLflow run (open for the whole search, so the hypervolume can be watched live)."""
+
+from __future__ import annotations
+
+import json
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pyarrow.parquet as pq
+
+from ftfof.config import Params
+from ftfof.optimize.problem import TrajectoryProblem
+from ftfof.optimize.search import ConvergenceRecord, SearchResult, SearchSettings, search
+from ftfof.optimize.select import (
+    Outcome,
+    choose,
+    convergence_csv,
+    front_table,
+    optimum_record,
+)
+from ftfof.pipeline import tracking
+from ftfof.pipeline.console import console
+from ftfof.pipeline.digests import models_digest, optimum_digest
+from ftfof.pipeline.io import atomic_dir, atomic_path, save_figure, write_json
+from ftfof.pipeline.registry import RegisteredWeights, fetch_pair
+from ftfof.robot import RobotContext, robot_context
+
+
+@dataclass
+class Setup:
+    """Everything a search needs, built from params and the trained models (no side effects)."""
+
+    ctx: RobotContext
+    problem: TrajectoryProblem
+    settings: SearchSettings
+    initial: np.ndarray | None  # free-variable rows, or None for pymoo's uniform start
+    models_digest: str
+    registered: dict[str, RegisteredWeights]  # target -> the model version resolved by alias
+
+
+@dataclass(frozen=True)
+class Outputs:
+    out: Path  # directory: front.parquet, optimum.json
+    metrics: Path
+    convergence: Path  # CSV; its PNG goes beside it
+    star: Path
+    pcp: Path
+
+
+def prepare(params: Params, models: Path) -> Setup:
+    from ftfof.surrogate.store import load_surrogate
+    from ftfof.trajectory.sampling import sample_feasible
+
+    ctx = robot_context(params)
+    mlflow = tracking.setup(tracking.experiment_name(params.robot))
+    registered = fetch_pair(mlflow, params.robot, params.train.use, params.train.alias, models)
+    surrogate = load_surrogate(models, params.train.use, {t: w.path for t, w in registered.items()})
+    cfg = params.optimize
+    problem = TrajectoryProblem(ctx.policy, surrogate, ctx.robot.objectives, ctx.robot.pre_pressure)
+    seed = params.base.seed + cfg.seed_offset
+    settings = SearchSettings(
+        population=cfg.population,
+        generations=cfg.generations,
+        seed=seed,
+        crossover_eta=cfg.crossover_eta,
+        crossover_prob=cfg.crossover_prob,
+        mutation_eta=cfg.mutation_eta,
+        log_every=cfg.log_every,
+    )
+    initial = None
+    if cfg.seeded_start:
+        s = params.sample
+        drawn = sample_feasible(ctx.policy, cfg.population, seed, s.design, s.batch, s.max_draws)
+        initial = ctx.policy.contract(drawn.X)
+    return Setup(ctx, problem, settings, initial, models_digest(models), registered)
+
+
+def write_outputs(
+    outcome: Outcome, setup: Setup, result: SearchResult, params: Params, to: Outputs
+):
+    """Front and optimum (one directory, all or nothing), metrics, convergence and figures."""
+    from ftfof.report.front import convergence_figure, pcp_figure, star_figure
+
+    names = list(setup.ctx.robot.objectives)
+    F, chosen = outcome.evaluation.F, outcome.index
+    title = f"{setup.ctx.name}: Pareto front ({len(F)} trajectories)"
+    figures = {
+        to.star: star_figure(F, names, chosen, title),
+        to.pcp: pcp_figure(F, names, chosen, title),
+    }
+    records = [r.as_dict() for r in result.history]
+    digest = setup.models_digest
+    with atomic_dir(to.out) as tmp:
+        pq.write_table(front_table(outcome, setup.ctx, digest), tmp / "front.parquet")
+        optimum = optimum_record(outcome, setup.ctx, params.optimize, digest)
+        (tmp / "optimum.json").write_text(json.dumps(optimum, indent=2, sort_keys=True) + "\n")
+    write_json(to.metrics, outcome.summary)
+    with atomic_path(to.convergence) as path:
+        path.write_text(convergence_csv(records))
+    figures[to.convergence.with_suffix(".png")] = convergence_figure(records)
+    for target, fig in figures.items():
+        save_figure(fig, target)
+
+
+class OptimizeRun:
+    """The stage's MLflow run around the search, the choice and the outputs."""
+
+    def __init__(self, params: Params, setup: Setup):
+        self.params, self.setup = params, setup
+        self.run_id = ""
+
+    def __enter__(self) -> OptimizeRun:
+        params, setup = self.params, self.setup
+        experiment = tracking.experiment_name(params.robot)
+        mlflow = tracking.setup(experiment)
+        digest = setup.models_digest
+        link, surrogate_run = tracking.link_tags(
+            mlflow,
+            experiment,
+            "train",
+            tracking.MODELS_DIGEST_TAG,
+            digest,
+            tracking.SURROGATE_RUN_TAG,
+            "Surrogates",
+            f" (models digest {digest}).",
+        )
+        if not surrogate_run:
+            console.print(
+                f"[yellow]no train run with models digest {digest} in this MLflow store; "
+                "the optimize run is not linked to one"
+            )
+        self._context = mlflow.start_run(
+            run_name="optimize", tags={**tracking.tags("optimize"), **link}
+        )
+        run = self._context.__enter__()
+        self.mlflow, self.run_id = mlflow, run.info.run_id
+        settings = {
+            "optimize": params.optimize.model_dump(),
+            "robot": params.robot,
+            "surface": params.surface,
+            "objectives": ",".join(setup.ctx.robot.objectives),
+            "free_variables": ",".join(setup.ctx.policy.free_names),
+            "models_digest": digest,
+            "model": {t: w.uri for t, w in setup.registered.items()},
+        }
+        mlflow.log_params(tracking.flatten(settings))
+        return self
+
+    def __exit__(self, *exc) -> bool:
+        return bool(self._context.__exit__(*exc))
+
+    def search(
+        self, on_record: Callable[[ConvergenceRecord], None], to: Outputs
+    ) -> tuple[SearchResult, Outcome]:
+        """Search (each record also logged as a step), choose, write the outputs, log them."""
+        setup = self.setup
+
+        def record(r: ConvergenceRecord) -> None:
+            on_record(r)
+            self._record(r)
+
+        result = search(setup.problem, setup.settings, setup.initial, record)
+        outcome = choose(self.params, setup.ctx, setup.problem, result, setup.models_digest)
+        write_outputs(outcome, setup, result, self.params, to)
+        artifacts = (to.star, to.pcp, to.convergence.with_suffix(".png"), to.convergence)
+        self._finish(outcome, artifacts, optimum_digest(to.out))
+        return result, outcome
+
+    def _record(self, record: ConvergenceRecord) -> None:
+        from mlflow.entities import Metric
+
+        stamp = int(time.time() * 1000)
+        step = record.generation
+        metrics = [
+            Metric(k, float(getattr(record, k)), stamp, step)
+            for k in ("hypervolume", "feasible", "front")
+        ]
+        self.mlflow.MlflowClient().log_batch(self.run_id, metrics=metrics)
+
+    def _finish(self, outcome: Outcome, artifacts: tuple[Path, ...], optimum_digest: str) -> None:
+        mlflow, summary = self.mlflow, outcome.summary
+        mlflow.log_metrics(
+            {
+                "seconds": summary["seconds"],
+                "ms_per_generation": summary["ms_per_generation"],
+                "front_size": summary["front"]["size"],
+                "rejected_by_recheck": summary["front"]["rejected_by_recheck"],
+                **{f"optimum_{k}": v for k, v in summary["optimum"]["objectives"].items()},
+            }
+        )
+        mlflow.log_dict(summary, "optimize.json")
+        mlflow.set_tag(tracking.OPTIMUM_DIGEST_TAG, optimum_digest)
+        for path in artifacts:
+            mlflow.log_artifact(str(path), artifact_path="figures")

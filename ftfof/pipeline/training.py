@@ -1,0 +1,191 @@
+"""The `train` run: one GRU per target and loss, side by side in processes, and its MLflow runs
+(a parent per invocation, a child per model, every model registered as a version)."""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+import time
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from ftfof.config import Params, Train
+from ftfof.pipeline import tracking
+from ftfof.pipeline.digests import models_digest
+from ftfof.pipeline.registry import model_name
+from ftfof.surrogate.store import TARGETS, TrainingData, weights_file
+
+
+@dataclass
+class Training:
+    results: list[dict[str, Any]]  # one per model: job, state dict, history, metrics, predictions
+    summary: dict[str, Any]  # the stage's metrics
+    wall: float  # seconds
+
+
+def train_all(params: Params, data: TrainingData) -> Training:
+    """Train every target with every loss; seeds differ by target, not by loss."""
+    cfg = params.train
+    jobs = [
+        {"target": t, "index": i, "kind": k, "seed": params.base.seed + cfg.seed_offset + 10 * i}
+        for i, t in enumerate(TARGETS)
+        for k in cfg.losses
+    ]
+    started = time.perf_counter()
+    results = run_jobs(jobs, data, cfg)
+    wall = time.perf_counter() - started
+    summary: dict[str, Any] = {
+        f"{r['target']}_{r['kind']}": {
+            **r["metrics"],
+            "epochs": len(r["history"]["train"]),
+            "best_epoch": r["history"]["best_epoch"],
+            "seconds": round(r["seconds"], 2),
+        }
+        for r in results
+    }
+    summary["wall_seconds"] = round(wall, 2)
+    return Training(results, summary, wall)
+
+
+def run_jobs(jobs: list[dict], data: TrainingData, cfg: Train) -> list[dict]:
+    """Train every job, side by side in processes when asked (one torch thread pool each)."""
+    cores = os.cpu_count() or 1
+    workers = min(len(jobs), cores) if cfg.parallel else 1
+    threads = cfg.threads or max(1, cores // workers)
+    if workers == 1:
+        return [_train_one(job, data, cfg, threads) for job in jobs]
+    with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("fork")) as pool:
+        futures = [pool.submit(_train_one, job, data, cfg, threads) for job in jobs]
+        return [f.result() for f in futures]
+
+
+def _train_one(job: dict, data: TrainingData, cfg: Train, threads: int) -> dict:
+    import numba
+    import torch
+
+    from ftfof.surrogate.train import predict, train_model, validation_metrics
+
+    torch.set_num_threads(threads)
+    numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
+    i = job["index"]
+    x_tr, y_tr = data.inputs("train"), data.target("train", i)
+    x_va, y_va = data.inputs("validation"), data.target("validation", i)
+    trained = train_model(x_tr, y_tr, x_va, y_va, job["kind"], cfg, job["seed"])
+    scale = data.target_scale[i]
+    pred = predict(trained.model, x_va)[..., 0] * scale
+    truth = y_va[..., 0] * scale
+    return {
+        **job,
+        "state": {k: v.numpy() for k, v in trained.model.state_dict().items()},
+        "history": {
+            "train": trained.history.train,
+            "validation": trained.history.validation,
+            "best_epoch": trained.history.best_epoch,
+        },
+        "metrics": validation_metrics(pred, truth, data.dt),
+        "seconds": trained.seconds,
+        "val_pred": pred,
+        "val_truth": truth,
+    }
+
+
+def track(
+    params: Params,
+    run: Training,
+    data: TrainingData,
+    figures: tuple[Path, ...],
+    out: Path,
+    dataset_dir: Path,
+) -> None:
+    """One parent run per invocation, a child per model and loss; every model is registered as a
+    version of ``ftfof-<robot>-<target>-<loss>``, and the ``use`` pair gets the alias."""
+    import numpy as np
+    import torch
+
+    mlflow = tracking.setup(tracking.experiment_name(params.robot))
+    from mlflow.models import infer_signature
+
+    tags = tracking.tags("train")
+    parent_tags = {**tags, tracking.MODELS_DIGEST_TAG: models_digest(out)}
+    dataset_input = tracking.dataset_input(dataset_dir / "samples.parquet")
+    cfg = params.train
+    example = data.inputs("validation")[:1]
+    requirements = [
+        f"torch=={torch.__version__.split('+')[0]}",
+        f"mlflow=={mlflow.__version__}",
+        f"numpy=={np.__version__}",
+    ]
+    settings = {
+        "train": cfg.model_dump(),
+        "dataset": params.dataset.model_dump(),
+        "robot": params.robot,
+        "surface": params.surface,
+        "dataset_digest": data.metadata_digest,
+    }
+    flat = tracking.flatten(settings)
+    with mlflow.start_run(run_name="train", tags=parent_tags):
+        mlflow.log_input(dataset_input, context="training")
+        mlflow.log_params(flat)
+        mlflow.log_metric("wall_seconds", run.summary["wall_seconds"])
+        for path in figures:
+            mlflow.log_artifact(str(path), artifact_path="figures")
+        for r in run.results:
+            with mlflow.start_run(
+                run_name=f"{r['target']}-{r['kind']}",
+                nested=True,
+                tags={**tags, "target": r["target"], "loss": r["kind"]},
+            ):
+                mlflow.log_input(dataset_input, context="training")
+                mlflow.log_params(
+                    {**flat, "target": r["target"], "loss": r["kind"], "seed": r["seed"]}
+                )
+                _log_history(mlflow, r)
+                model, output = _model_output(r, cfg, example)
+                name = model_name(params.robot, r["target"], r["kind"])
+                info = mlflow.pytorch.log_model(
+                    model,
+                    name="model",
+                    signature=infer_signature(example, output),
+                    input_example=example,
+                    pip_requirements=requirements,
+                    serialization_format="pickle",
+                    registered_model_name=name,
+                    extra_files=[str(out / weights_file(r["target"], r["kind"]))],
+                )
+                if r["kind"] == cfg.use:
+                    mlflow.MlflowClient().set_registered_model_alias(
+                        name, cfg.alias, str(info.registered_model_version)
+                    )
+
+
+def _log_history(mlflow, result: dict) -> None:
+    """Loss per epoch as stepped metrics, in batches MLflow accepts."""
+    from mlflow.entities import Metric
+
+    client = mlflow.MlflowClient()
+    run_id = mlflow.active_run().info.run_id
+    stamp = int(time.time() * 1000)
+    batch = [
+        Metric(f"{split}_loss", v, stamp, e)
+        for split in ("train", "validation")
+        for e, v in enumerate(result["history"][split])
+    ]
+    for start in range(0, len(batch), 900):
+        client.log_batch(run_id, metrics=batch[start : start + 900])
+    mlflow.log_metrics({f"val_{k}": v for k, v in result["metrics"].items()})
+    mlflow.log_metric("best_epoch", result["history"]["best_epoch"])
+
+
+def _model_output(result: dict, cfg: Train, example):
+    """The trained model as a torch module and its output on ``example`` (for the signature)."""
+    import torch
+
+    from ftfof.surrogate.model import ForceGRU, ModelConfig
+
+    model = ForceGRU(ModelConfig(hidden=cfg.hidden, layers=cfg.layers, dropout=cfg.dropout))
+    model.load_state_dict({k: torch.from_numpy(v) for k, v in result["state"].items()})
+    model.eval()
+    with torch.no_grad():
+        return model, model(torch.from_numpy(example)).numpy()

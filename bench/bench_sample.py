@@ -20,9 +20,9 @@ from scipy.stats import qmc
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from ftfof.config import Params
+from ftfof.robot import robot_context
 from ftfof.trajectory.policy import ConstraintPolicy
 from ftfof.trajectory.sampling import sample_feasible
-from stages.robot import robot_context
 from stages.runtime import tune_allocator
 
 N = 1000

@@ -3,9 +3,6 @@ parallel workers, and print the `dvc exp show` table when they are done."""
 
 from __future__ import annotations
 
-import subprocess
-import sys
-import time
 from pathlib import Path
 from typing import Annotated
 
@@ -24,34 +21,11 @@ def command(
     poll: Annotated[float, typer.Option(min=0.1, help="Seconds between queue checks.")] = 5.0,
 ) -> None:
     """Queue one experiment per combination (`dvc exp run --queue`), start `jobs` workers."""
-    from ftfof.errors import FtfofError
-    from ftfof.pipeline.sweep import check_presets, failed, parse_axes, plan, unfinished
+    from ftfof.pipeline.sweep import check_presets, parse_axes, plan, run
     from stages.params import load_params
 
     params = load_params(params_path)
     axes = parse_axes(axes)
     check_presets(axes, {"robot": list(params.robots), "surface": list(params.surfaces)})
-    experiments = plan(axes, prefix)
-    names = [e.name for e in experiments]
-    for experiment in experiments:
-        _dvc(*experiment.queue_args())
-    _dvc("queue", "start", "-j", str(jobs))
-    console.print(f"sweep: queued {', '.join(names)}; {jobs} worker(s) started")
-    if not wait:
-        return
-    while pending := unfinished(_dvc("queue", "status"), names):
-        console.print(f"sweep: waiting for {', '.join(pending)}")
-        time.sleep(poll)
-    console.print(_dvc("exp", "show", "--no-pager"))
-    if bad := failed(_dvc("queue", "status"), names):
-        raise FtfofError("sweep", f"failed: {', '.join(bad)} (see `dvc queue logs NAME`)")
-
-
-def _dvc(*args: str) -> str:
-    from ftfof.errors import FtfofError
-
-    result = subprocess.run([sys.executable, "-m", "dvc", *args], capture_output=True, text=True)
-    if result.returncode != 0:
-        message = (result.stderr or result.stdout).strip().splitlines()
-        raise FtfofError(f"dvc {' '.join(args[:2])}", message[-1] if message else "failed")
-    return result.stdout
+    table = run(plan(axes, prefix), jobs, poll, console.print, wait)
+    typer.echo(table, nl=False)

@@ -9,10 +9,13 @@ from __future__ import annotations
 
 import itertools
 import re
-from collections.abc import Mapping, Sequence
+import subprocess
+import sys
+import time
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
-from ftfof.errors import ParamsError
+from ftfof.errors import FtfofError, ParamsError
 
 AXES = {"robots": "robot", "surfaces": "surface"}  # command-line axis -> params key
 _NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.-]*$")
@@ -87,3 +90,37 @@ def failed(status_text: str, names: Sequence[str]) -> list[str]:
         for n in names
         if n in line.split()
     ]
+
+
+def dvc(*args: str) -> str:
+    """Run ``dvc ARGS`` with this interpreter; its last error line becomes an FtfofError."""
+    result = subprocess.run([sys.executable, "-m", "dvc", *args], capture_output=True, text=True)
+    if result.returncode != 0:
+        message = (result.stderr or result.stdout).strip().splitlines()
+        raise FtfofError(f"dvc {' '.join(args[:2])}", message[-1] if message else "failed")
+    return result.stdout
+
+
+def run(
+    experiments: Sequence[Experiment],
+    jobs: int,
+    poll: float,
+    say: Callable[[str], None],
+    wait: bool = True,
+) -> str:
+    """Queue ``experiments``, start ``jobs`` workers and, with ``wait``, return the
+    ``dvc exp show`` table (Markdown: no column is cut to the terminal's width) once they are
+    all done; a failed experiment is an error naming it."""
+    names = [e.name for e in experiments]
+    for experiment in experiments:
+        dvc(*experiment.queue_args())
+    dvc("queue", "start", "-j", str(jobs))
+    say(f"sweep: queued {', '.join(names)}; {jobs} worker(s) started")
+    if not wait:
+        return ""
+    while pending := unfinished(dvc("queue", "status"), names):
+        say(f"sweep: waiting for {', '.join(pending)}")
+        time.sleep(poll)
+    if bad := failed(dvc("queue", "status"), names):
+        raise FtfofError("sweep", f"failed: {', '.join(bad)} (see `dvc queue logs NAME`)")
+    return dvc("exp", "show", "--md", "--no-pager")

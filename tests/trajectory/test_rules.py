@@ -7,13 +7,13 @@ import pytest
 
 from ftfof.config import Params
 from ftfof.objectives import fs6_bending
+from ftfof.robot import robot_context
 from ftfof.trajectory.rules import (
     curvature_radius,
     md_path_violation,
     path_radius_violation,
     reversal_violation,
 )
-from stages.robot import robot_context
 from tests.conftest import PUBLISHED_M3F
 
 # Hand-made hairpin: its swing turns back at t = 0.35 s on a bend of a few micrometres. Every

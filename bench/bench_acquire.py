@@ -15,6 +15,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from ftfof.robot import robot_context
+from ftfof.seeds import seed_for
 from ftfof.sim import pool
 from ftfof.sim.simulate import simulate
 from ftfof.sim.spec import Bench
@@ -31,7 +32,7 @@ def main(n: int) -> None:
     bench = Bench(
         ctx.robot, params.selected_surface, params.platform, params.acquire, params.base.seed
     )
-    X = sample_feasible(ctx.policy, n, seed=params.base.seed + 7).X
+    X = sample_feasible(ctx.policy, n, seed=seed_for(params.base.seed, "bench")).X
     specs = [bench.bezier("sampled", i, x) for i, x in enumerate(X)]
     simulate(specs[0])  # warm-up: imports, numba cache
     one_core = []

@@ -287,7 +287,6 @@ class Dataset(Strict):
     seq_len: Annotated[int, Field(ge=8)] = 128
     hold: NonNegative = 0.1  # s of the landing hold after T3 kept in each sequence
     validation_fraction: Annotated[float, Field(gt=0, lt=1)] = 0.15
-    split_seed_offset: Annotated[int, Field(ge=0)] = 2
     plot_samples: Annotated[int, Field(ge=1)] = 4
 
 
@@ -310,7 +309,6 @@ class Train(Strict):
     alias: Annotated[str, Field(pattern=r"^[A-Za-z][A-Za-z0-9_-]*$")] = "champion"
     threads: Annotated[int, Field(ge=0)] = 0  # torch threads per model, 0 = all cores / models
     parallel: bool = True  # train the models side by side, one process each
-    seed_offset: Annotated[int, Field(ge=0)] = 3
 
 
 class Optimize(Strict):
@@ -318,7 +316,6 @@ class Optimize(Strict):
 
     population: Annotated[int, Field(ge=4)] = 200
     generations: Annotated[int, Field(ge=1)] = 2000
-    seed_offset: Annotated[int, Field(ge=0)] = 4
     seeded_start: bool = True  # initial population from feasible Sobol draws, not uniform
     crossover_eta: Positive = 15.0  # SBX distribution index
     crossover_prob: Fraction = 0.9
@@ -396,7 +393,6 @@ class Baselines(Strict):
 
     lift_height: Positive  # polynomial and cycloid apex, m
     eps_bezier: EpsBezier
-    random_seed_offset: Annotated[int, Field(ge=0)] = 1
 
 
 class Params(Strict):

@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 from ftfof.config import Params, Robot
 from ftfof.kinematics.limits import RobotLimits, resolve_limits
+from ftfof.seeds import seed_for
 from ftfof.trajectory.policy import ConstraintPolicy
 
 
@@ -20,7 +21,7 @@ class RobotContext:
 def robot_context(params: Params) -> RobotContext:
     """Resolve Ppl/Vpl and build the policy; raises InfeasibleRobotError before any output."""
     name, robot = params.robot, params.selected_robot
-    limits = resolve_limits(robot, name, seed=params.base.seed)
+    limits = resolve_limits(robot, name, seed=seed_for(params.base.seed, "limits"))
     return RobotContext(
         name, robot, limits, ConstraintPolicy(robot, limits, params.feasibility, name)
     )

@@ -27,6 +27,7 @@ def command(
 
     from ftfof.data.schema import TRAJECTORIES
     from ftfof.robot import robot_context
+    from ftfof.seeds import seed_for
     from ftfof.trajectory.bezier import DECISION_NAMES
     from ftfof.trajectory.sampling import sample_feasible
     from stages.params import load_params
@@ -41,8 +42,9 @@ def command(
         def report(accepted: int, draws: int) -> None:
             bar.update(task, completed=accepted, info=f"{draws:,} draws")
 
+        seed = seed_for(params.base.seed, "sample")
         result = sample_feasible(
-            ctx.policy, cfg.n, params.base.seed, cfg.design, cfg.batch, cfg.max_draws, report
+            ctx.policy, cfg.n, seed, cfg.design, cfg.batch, cfg.max_draws, report
         )
     elapsed = time.perf_counter() - started
     n = len(result.X)

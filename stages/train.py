@@ -29,6 +29,7 @@ def command(
     from ftfof.pipeline.io import save_figure, write_json
     from ftfof.pipeline.training import track, train_all
     from ftfof.report.figures import loss_figure, prediction_figure
+    from ftfof.seeds import seed_for
     from ftfof.surrogate.store import read_dataset, write_models
     from stages.params import load_params
 
@@ -36,7 +37,7 @@ def command(
     data = read_dataset(dataset_dir)
     run = train_all(params, data)
     loss_fig = loss_figure(run.results)
-    pred_fig = prediction_figure(run.results, data, params.base.seed)
+    pred_fig = prediction_figure(run.results, data, seed_for(params.base.seed, "plots"))
     write_models(out, run.results, data, params.train)
     write_json(metrics, run.summary)
     save_figure(loss_fig, loss_plot)

@@ -9,6 +9,7 @@ import numpy as np
 from ftfof.config import Params, Surface
 from ftfof.errors import ParamsError
 from ftfof.robot import RobotContext
+from ftfof.seeds import seed_for
 from ftfof.sim.spec import Bench, SampleSpec
 from ftfof.trajectory.baselines import common_trajectories
 from ftfof.trajectory.piecewise import Sampled
@@ -27,7 +28,9 @@ def bench(params: Params, ctx: RobotContext, surface: Surface | None = None) -> 
 
 def baseline_trajectories(params: Params, ctx: RobotContext) -> dict[str, Sampled]:
     """The common trajectories every optimum is compared with, from this run's seed."""
-    return common_trajectories(ctx.policy, params.baselines, params.base.seed)
+    return common_trajectories(
+        ctx.policy, params.baselines, seed_for(params.base.seed, "baselines")
+    )
 
 
 def baseline_specs(

@@ -19,6 +19,7 @@ from ftfof.errors import DataError
 from ftfof.pipeline.digests import json_sha256
 from ftfof.pipeline.io import read_table
 from ftfof.pipeline.jobs import MANIFEST, versions
+from ftfof.seeds import seed_for
 
 
 @dataclass
@@ -40,7 +41,7 @@ def build(params: Params, acquisition: Path, imported: Path) -> Dataset:
     if dup := [k for k, c in Counter(keys).items() if c > 1]:
         raise DataError("dataset", f"sample {dup[0]!r} appears twice (imported twice?)")
     cfg = params.dataset
-    built, norm = dataset.build(table, cfg, params.base.seed + cfg.split_seed_offset)
+    built, norm = dataset.build(table, cfg, seed_for(params.base.seed, "split"))
     manifest = acquisition / MANIFEST
     sim_versions = json.loads(manifest.read_text()).get("versions", {}) if manifest.exists() else {}
     meta = {
@@ -66,4 +67,6 @@ def build(params: Params, acquisition: Path, imported: Path) -> Dataset:
         "peak_detachment_mean": float(np.nanmean(built.column("peak_detachment").to_numpy())),
         "normalization": meta["normalization"],
     }
-    return Dataset(built, summary, dataset_figure(built, cfg.plot_samples, params.base.seed))
+    return Dataset(
+        built, summary, dataset_figure(built, cfg.plot_samples, seed_for(params.base.seed, "plots"))
+    )

@@ -28,6 +28,7 @@ from ftfof.pipeline.digests import models_digest, optimum_digest
 from ftfof.pipeline.io import atomic_dir, atomic_path, save_figure, write_json
 from ftfof.pipeline.registry import RegisteredWeights, fetch_pair
 from ftfof.robot import RobotContext, robot_context
+from ftfof.seeds import seed_for
 
 
 @dataclass
@@ -61,7 +62,7 @@ def prepare(params: Params, models: Path) -> Setup:
     surrogate = load_surrogate(models, params.train.use, {t: w.path for t, w in registered.items()})
     cfg = params.optimize
     problem = TrajectoryProblem(ctx.policy, surrogate, ctx.robot.objectives, ctx.robot.pre_pressure)
-    seed = params.base.seed + cfg.seed_offset
+    seed = seed_for(params.base.seed, "optimize")
     settings = SearchSettings(
         population=cfg.population,
         generations=cfg.generations,

@@ -15,6 +15,7 @@ from ftfof.config import Params, Train
 from ftfof.pipeline import tracking
 from ftfof.pipeline.digests import models_digest
 from ftfof.pipeline.registry import model_name
+from ftfof.seeds import seed_for
 from ftfof.surrogate.store import TARGETS, TrainingData, weights_file
 
 
@@ -29,7 +30,7 @@ def train_all(params: Params, data: TrainingData) -> Training:
     """Train every target with every loss; seeds differ by target, not by loss."""
     cfg = params.train
     jobs = [
-        {"target": t, "index": i, "kind": k, "seed": params.base.seed + cfg.seed_offset + 10 * i}
+        {"target": t, "index": i, "kind": k, "seed": seed_for(params.base.seed, "train", i)}
         for i, t in enumerate(TARGETS)
         for k in cfg.losses
     ]

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ftfof import config
+from ftfof.seeds import seed_for
 from ftfof.trajectory.bezier import evaluate
 from ftfof.trajectory.piecewise import PiecewiseQuintic, Sampled
 
@@ -54,7 +55,7 @@ class Bench:
     surface: config.Surface
     platform: config.Platform
     acquire: config.Acquire
-    seed: int
+    seed: int  # base.seed; each sample's noise seed is its child in the acquisition stream
 
     def spec(self, source: str, sample_id: int, trajectory: PiecewiseQuintic) -> SampleSpec:
         r = self.robot
@@ -72,7 +73,7 @@ class Bench:
             solver=self.acquire.solver,
             leg_model=self.acquire.leg_model,
             leg=r.leg,
-            seed=self.seed * 1_000_003 + sample_id,
+            seed=seed_for(self.seed, "acquisition", sample_id),
         )
 
     def bezier(self, source: str, sample_id: int, X: np.ndarray) -> SampleSpec:

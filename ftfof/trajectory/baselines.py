@@ -159,14 +159,15 @@ class EpsBezier:
 def common_trajectories(
     policy: ConstraintPolicy, settings: config.Baselines, seed: int
 ) -> dict[str, Sampled]:
-    """The four baselines of DESIGN §11 for a robot, from P0 to P15 in its total time T3.
+    """The four common trajectories (FTFOF §VI.D) for a robot, from P0 to P15 in its time T3.
 
-    The random Bezier is the first feasible draw of the robot's own sampler with its own seed
-    (``base.seed + random_seed_offset``), so it differs from every training sample's draw order.
+    The random Bezier is the first feasible draw of the robot's own sampler with ``seed``: the
+    pipeline passes its own "baselines" stream (``ftfof.seeds``), independent of the training
+    samples' draws.
     """
     T = policy.timing.T3
     step = policy.p15 - policy.p0
-    X = sample_feasible(policy, 1, seed + settings.random_seed_offset).X[0]
+    X = sample_feasible(policy, 1, seed).X[0]
     return {
         "polynomial": Polynomial(step, settings.lift_height, T),
         "cycloidal": Cycloidal(step, settings.lift_height, T),

@@ -8,10 +8,14 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numba
 import numpy as np
 from numpy.typing import NDArray
+
+if TYPE_CHECKING:
+    from ftfof.config import Strategy
 
 Array = NDArray[np.float64]
 
@@ -139,7 +143,8 @@ class Evidence:
     min_step: float = 1e-9
 
 
-STRATEGIES: dict[str, Callable[[Evidence], Array]] = {
+# One entry per name of config.Strategy (a test holds them equal).
+STRATEGIES: dict[Strategy, Callable[[Evidence], Array]] = {
     "fs1": lambda e: fs1_max_detachment(e.Fd),
     "fs2": lambda e: fs2_mean_detachment(e.Fd),
     "fs3": lambda e: fs3_pre_pressure_error(e.Fp, e.pre_pressure),

@@ -3,64 +3,30 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
 
 import yaml
 from pydantic import ValidationError
+from pydantic_core import ErrorDetails
 
-from ftfof.config import Params
+from ftfof.config import LEG_TYPES, Params
 from ftfof.errors import ParamsError
-
-_MESSAGES = {
-    "greater_than": "must be > {gt}",
-    "greater_than_equal": "must be >= {ge}",
-    "less_than_equal": "must be <= {le}",
-    "less_than": "must be < {lt}",
-    "extra_forbidden": "unknown key",
-    "missing": "required key is missing",
-    "float_parsing": "must be a number",
-    "float_type": "must be a number",
-    "int_parsing": "must be an integer",
-    "int_type": "must be an integer",
-    "int_from_float": "must be an integer",
-    "bool_parsing": "must be true or false",
-    "string_type": "must be a string",
-    "literal_error": "must be one of {expected}",
-    "too_short": "needs at least {min_length} items",
-    "tuple_type": "must be a list",
-    "list_type": "must be a list",
-    "dict_type": "must be a mapping",
-    "model_type": "must be a mapping",
-    "union_tag_invalid": "unknown type {tag!r} (expected one of {expected_tags})",
-    "union_tag_not_found": "needs a 'type' key",
-}
-
-
-def _path(loc: tuple[Any, ...], error_type: str) -> str:
-    parts = [str(p) for p in loc]
-    # Discriminated unions put the tag in the location (robots.x.leg.planar3.hip): drop it.
-    parts = [p for p in parts if p not in ("planar3", "spatial3")]
-    return ".".join(parts) or "params"
 
 
 def format_validation_error(err: ValidationError) -> str:
-    """Every problem as 'key.path: what is wrong (got value)', one per line."""
-    lines = [_problem(e) for e in err.errors()]
+    """Every problem as 'key.path: pydantic's message (got value)', one per line."""
+    lines = [_problem(e) for e in err.errors(include_url=False)]
     if len(lines) == 1:
         return lines[0]
     return f"{len(lines)} problems:\n" + "\n".join(f"  {line}" for line in lines)
 
 
-def _problem(error: Any) -> str:
-    template = _MESSAGES.get(error["type"])
-    ctx = {k: f"{v:g}" if isinstance(v, float) else v for k, v in error.get("ctx", {}).items()}
-    if template is not None:
-        what = template.format(**ctx)
-    else:
-        what = error["msg"].removeprefix("Value error, ")
-    if error["type"] not in ("missing", "extra_forbidden", "union_tag_not_found"):
-        what += f" (got {error['input']!r})" if not isinstance(error["input"], dict) else ""
-    return f"{_path(error['loc'], error['type'])}: {what}"
+def _problem(error: ErrorDetails) -> str:
+    # A discriminated union puts its tag in the location (robots.x.leg.planar3.hip): not a key.
+    path = ".".join(str(p) for p in error["loc"] if p not in LEG_TYPES)
+    what = error["msg"].removeprefix("Value error, ")
+    if not isinstance(error["input"], dict):  # a whole block (missing key, model check): not shown
+        what += f" (got {error['input']!r})"
+    return f"{path}: {what}" if path else what
 
 
 def parse_params(raw: object, source: str = "params.yaml") -> Params:

@@ -1,8 +1,11 @@
-"""fs1..fs7 on hand-made series (DESIGN §9)."""
+"""fs1..fs7 on hand-made series (FTFOF §V.A)."""
+
+from typing import get_args
 
 import numpy as np
 import pytest
 
+from ftfof.config import Strategy
 from ftfof.objectives import (
     STRATEGIES,
     Evidence,
@@ -121,3 +124,7 @@ def test_strategy_values_stack_the_named_functions_in_the_given_order():
 def test_unknown_strategy_is_named():
     with pytest.raises(ValueError, match="fs9"):
         strategy_values(["fs1", "fs9"], _evidence())
+
+
+def test_every_strategy_name_params_allow_has_a_function():
+    assert set(STRATEGIES) == set(get_args(Strategy))

@@ -21,7 +21,7 @@ from ftfof.surrogate.model import ForceGRU, ModelConfig
 
 Array = NDArray[np.float64]
 DTW_GAMMA = 1e-4  # soft-DTW this sharp is hard DTW to within its smoothing
-LOSSES: tuple[str, ...] = get_args(config.Train.model_fields["use"].annotation)  # params' names
+LOSSES: tuple[str, ...] = get_args(config.Loss)
 
 
 @dataclass

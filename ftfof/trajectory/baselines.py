@@ -14,6 +14,7 @@ Each is an analytic curve with exact velocity and acceleration, evaluated at arb
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import get_args
 
 import numpy as np
 from numpy.typing import NDArray
@@ -25,7 +26,7 @@ from ftfof.trajectory.policy import ConstraintPolicy
 from ftfof.trajectory.sampling import sample_feasible
 
 Array = NDArray[np.float64]
-BASELINE_NAMES = ("polynomial", "cycloidal", "random_bezier", "eps_bezier")
+BASELINE_NAMES: tuple[str, ...] = get_args(config.Baseline)
 
 
 def _stack(x: Array, z: Array) -> Array:

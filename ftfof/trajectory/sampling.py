@@ -22,6 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.stats import qmc
 
+from ftfof.config import Design
 from ftfof.errors import SamplingError
 from ftfof.trajectory.policy import ConstraintPolicy
 
@@ -51,7 +52,7 @@ class SampleResult:
         return self.accepted / self.draws if self.draws else 0.0
 
 
-def _design(kind: str, d: int, seed: int) -> Callable[[int], Array]:
+def _design(kind: Design, d: int, seed: int) -> Callable[[int], Array]:
     engine: qmc.QMCEngine
     if kind == "sobol":
         engine = qmc.Sobol(d, scramble=True, rng=np.random.default_rng(seed))
@@ -73,7 +74,7 @@ def sample_feasible(
     policy: ConstraintPolicy,
     n: int,
     seed: int,
-    design: str = "sobol",
+    design: Design = "sobol",
     batch: int = 4096,
     max_draws: int = 4_000_000,
     progress: Callable[[int, int], None] | None = None,

@@ -27,18 +27,20 @@ def _error(tmp_path: Path, data: dict) -> str:
 
 def test_unknown_key_is_named(tmp_path, params_dict):
     params_dict["robots"]["mst_m3f"]["foot"]["pad_lenght"] = 0.05
-    assert "robots.mst_m3f.foot.pad_lenght: unknown key" in _error(tmp_path, params_dict)
+    msg = _error(tmp_path, params_dict)
+    assert "robots.mst_m3f.foot.pad_lenght: Extra inputs are not permitted (got 0.05)" in msg
 
 
 def test_wrong_type_is_named(tmp_path, params_dict):
     params_dict["sample"]["n"] = "many"
-    assert "sample.n: must be an integer (got 'many')" in _error(tmp_path, params_dict)
+    msg = _error(tmp_path, params_dict)
+    assert "sample.n: Input should be a valid integer" in msg and "(got 'many')" in msg
 
 
 def test_negative_length_is_named(tmp_path, params_dict):
     params_dict["robots"]["mst_m3f"]["foot"]["pad_length"] = -0.05
     msg = _error(tmp_path, params_dict)
-    assert "robots.mst_m3f.foot.pad_length: must be > 0 (got -0.05)" in msg
+    assert "robots.mst_m3f.foot.pad_length: Input should be greater than 0 (got -0.05)" in msg
 
 
 def test_every_problem_is_listed_one_per_line(tmp_path, params_dict):
@@ -66,7 +68,14 @@ def test_unordered_timing_is_named(tmp_path, params_dict):
 
 def test_unknown_leg_type_is_named(tmp_path, params_dict):
     params_dict["robots"]["mst_q"]["leg"]["type"] = "hexapod"
-    assert "robots.mst_q.leg: unknown type 'hexapod'" in _error(tmp_path, params_dict)
+    msg = _error(tmp_path, params_dict)
+    assert "robots.mst_q.leg: Input tag 'hexapod' found using 'type' does not match" in msg
+
+
+def test_a_leg_key_is_named_without_the_leg_type_tag(tmp_path, params_dict):
+    params_dict["robots"]["mst_q"]["leg"]["joint_limits"][1] = [1.5, -1.0]
+    msg = _error(tmp_path, params_dict)
+    assert "robots.mst_q.leg.joint_limits.1: must be an increasing pair" in msg
 
 
 def test_invalid_yaml_names_the_line(tmp_path):

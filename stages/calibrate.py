@@ -1,21 +1,20 @@
 """`ftfof calibrate`: fit the selected surface to FTFOF Table I with the two baselines.
 
 Writes reports/calibration.json (fitted values, residuals, measurements, every evaluation). With
-``--write-params`` it also rewrites the fitted lines of that surface in params.yaml, each with a
-comment naming the fit; everything else in the file is left as it is.
+``--write-params`` it also sets the fitted keys of that surface in params.yaml, each with a comment
+naming the fit, through the same round-trip edit as `ftfof profile`: the rest stays as it is.
 """
 
 from __future__ import annotations
 
-import re
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 
 from ftfof.errors import ParamsError
 from ftfof.pipeline.calibration import THIRD_BOUNDS
-from ftfof.pipeline.io import atomic_path, write_json
+from ftfof.pipeline.io import write_json
 from stages.common import ParamsOption, console, stage
 
 REPORT = Path("reports/calibration.json")
@@ -34,10 +33,8 @@ def command(
     write_params: Annotated[bool, typer.Option(help="Write the fit into params.yaml.")] = False,
 ) -> None:
     """Fit the surface's strength and fracture energy (and one more) to FTFOF Table I."""
-    import yaml
-
     from ftfof.pipeline.calibration import fit_surface
-    from stages.params import load_params, parse_params
+    from stages.params import edit_params, load_params
 
     params = load_params(params_path)
     fit = fit_surface(params, third, evaluations)
@@ -47,36 +44,24 @@ def command(
     for name, err in fit["residuals"].items():
         console.print(f"  {name:34s} {err:+.1%}")
     if write_params:
-        text = update_surface(params_path.read_text(), params.surface, fit["values"])
-        parse_params(yaml.safe_load(text), str(params_path))  # must still validate
-        with atomic_path(params_path) as tmp:
-            tmp.write_text(text)
+        edit_params(
+            params_path, lambda document: update_surface(document, params.surface, fit["values"])
+        )
         console.print(f"wrote the fit into {params_path}")
 
 
-def update_surface(text: str, surface: str, values: dict[str, float]) -> str:
-    """Replace ``surfaces.<surface>.<name>: ...`` lines, keeping the rest of the file intact."""
-    lines = text.splitlines(keepends=True)
-    in_surfaces = in_block = False
-    seen: set[str] = set()
-    for i, line in enumerate(lines):
-        if re.match(r"^\S", line):
-            in_surfaces = line.startswith("surfaces:")
-            in_block = False
-            continue
-        if in_surfaces and re.match(r"^  \S", line):
-            in_block = line.strip().rstrip(":") == surface
-            continue
-        m = re.match(r"^(    )(\w+):", line) if in_block else None
-        if m and m.group(2) in values:
-            name = m.group(2)
-            newline = "\n" if line.endswith("\n") else ""
-            lines[i] = f"{m.group(1)}{name}: {values[name]:.6g}  {COMMENT}{newline}"
-            seen.add(name)
-    missing = set(values) - seen
-    if missing:
+def update_surface(document: Any, surface: str, values: dict[str, float]) -> None:
+    """Set ``surfaces.<surface>.<name>`` in a round-trip document, each with the fit's comment."""
+    from stages.params import yaml_float
+
+    block = document.get("surfaces", {}).get(surface)
+    missing = sorted(set(values) - set(block or ()))
+    if block is None or missing:
         raise ParamsError(
-            f"surfaces.{surface}",
-            f"no line to rewrite for {sorted(missing)} (add them to params.yaml first)",
+            f"surfaces.{surface}", f"has no key for {missing} (add them to params.yaml first)"
         )
-    return "".join(lines)
+    for name, value in values.items():
+        block[name] = float(f"{value:.6g}")
+        # two spaces before the comment, wherever an earlier comment of the key stood
+        column = block.lc.col + len(f"{name}: {yaml_float(block[name])}") + 2
+        block.yaml_add_eol_comment(COMMENT, name, column=column)

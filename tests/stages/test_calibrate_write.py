@@ -1,21 +1,30 @@
-"""`calibrate --write-params` refuses a params file it cannot rewrite with a one-line error."""
+"""`calibrate --write-params` sets the fitted keys in place, or refuses with a one-line error."""
+
+from pathlib import Path
 
 import pytest
+import yaml
 
 from ftfof.errors import ParamsError
 from stages.calibrate import update_surface
+from stages.params import edit_yaml
 
-PARAMS = "surfaces:\n  acrylic:\n    strength: 1.0\nrobot: m3f\n"
+PARAMS = "surfaces:\n  acrylic:\n    strength: 1.0  # a note\n    friction: 0.6\nrobot: m3f\n"
+
+
+def _rewrite(values: dict[str, float]) -> str:
+    return edit_yaml(PARAMS, lambda doc: update_surface(doc, "acrylic", values), Path("p.yaml"))[0]
 
 
 def test_the_fitted_lines_are_rewritten_in_place():
-    text = update_surface(PARAMS, "acrylic", {"strength": 2.5})
-    assert text.splitlines()[2].startswith("    strength: 2.5  # fitted by ftfof calibrate")
+    text = _rewrite({"strength": 2.5, "friction": 1e-5})
+    lines = text.splitlines()
+    assert lines[2] == "    strength: 2.5  # fitted by ftfof calibrate (reports/calibration.json)"
+    assert lines[3].startswith("    friction: 1.0e-05  # fitted by ftfof calibrate")
     assert text.endswith("robot: m3f\n")
+    assert yaml.safe_load(text)["surfaces"]["acrylic"] == {"strength": 2.5, "friction": 1e-5}
 
 
 def test_a_fitted_value_without_a_line_is_a_params_error_naming_the_surface():
-    with pytest.raises(
-        ParamsError, match=r"surfaces.acrylic: no line to rewrite for \['friction'\]"
-    ):
-        update_surface(PARAMS, "acrylic", {"strength": 2.5, "friction": 0.5})
+    with pytest.raises(ParamsError, match=r"surfaces.acrylic: has no key for \['rate_speed'\]"):
+        _rewrite({"strength": 2.5, "rate_speed": 0.5})

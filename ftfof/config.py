@@ -115,7 +115,7 @@ class PlanarLeg(Strict):
 
 
 class SpatialLeg(Strict):
-    """3-DOF leg of eps_bezier.txt (D-H table I, eq. 5-6); the trajectory lies in y = 0."""
+    """3-DOF leg of the ε-Bezier paper (D-H table I, eq. 5-6); the trajectory lies in y = 0."""
 
     type: Literal["spatial3"]
     hip: Point  # origin of the D-H chain {O_1} in the trajectory frame, m
@@ -157,7 +157,7 @@ class XZ(Strict):
 
 
 class FilmMechanics(Strict):
-    """The PET film with its adhesive layer, as the simulator's ANCF cable (DESIGN §6)."""
+    """The PET film with its adhesive layer, as the simulator's ANCF cable (docs/simulator.md)."""
 
     width: PositiveFloat  # b, m
     bending_stiffness: PositiveFloat  # EI, N m^2 (PET: E b h^3 / 12)
@@ -226,7 +226,7 @@ class Robot(Strict):
 
 
 class Surface(Strict):
-    """Adhesive and friction behaviour of one adhesion plate (DESIGN §6), per unit pad area."""
+    """Adhesion and friction of one plate, per unit pad area (docs/simulator.md)."""
 
     note: str  # where the numbers come from
     strength: PositiveFloat  # sigma_max, Pa
@@ -253,7 +253,7 @@ class Sensor(Strict):
 
 
 class Protocol(Strict):
-    """One acquisition: settle, press to a, run the trajectory, hold the landing (DESIGN §6)."""
+    """One acquisition: settle, press, run the trajectory, hold the landing (docs/simulator.md)."""
 
     settle: PositiveFloat  # s
     press: PositiveFloat  # s, ramp to the pre-pressure
@@ -269,7 +269,7 @@ class Platform(Strict):
 
 
 class Solver(Strict):
-    """Exudyn settings (notes/exudyn.md): implicit generalised-alpha with step control."""
+    """Exudyn settings (docs/simulator.md): implicit generalised-alpha with step control."""
 
     nodes: Annotated[int, Field(ge=4)] = 20  # bond elements along the film
     step: PositiveFloat = 5e-4  # s, while bonds break or the pad lands
@@ -291,7 +291,7 @@ class Acquire(Strict):
 
 
 class Dataset(Strict):
-    """How acquisitions become fixed-length training sequences (DESIGN §7)."""
+    """How acquisitions become fixed-length training sequences (docs/simulator.md, Dataset)."""
 
     seq_len: Annotated[int, Field(ge=8)] = 128
     hold: NonNegativeFloat = 0.1  # s of the landing hold after T3 kept in each sequence
@@ -300,7 +300,7 @@ class Dataset(Strict):
 
 
 class Train(Strict):
-    """GRU surrogates trained with DILATE and, for comparison, MSE (DESIGN §8)."""
+    """GRU surrogates trained with DILATE and, for comparison, MSE (FTFOF §IV.B; README, train)."""
 
     hidden: PositiveInt = 64
     layers: PositiveInt = 2
@@ -321,7 +321,7 @@ class Train(Strict):
 
 
 class Optimize(Strict):
-    """NSGA-II on the surrogates and the RHS choice (FTFOF §V.B-C, DESIGN §10); paper defaults."""
+    """NSGA-II on the surrogates and the RHS choice (FTFOF §V.B-C); paper defaults."""
 
     population: Annotated[int, Field(ge=4)] = 200
     generations: PositiveInt = 2000
@@ -371,7 +371,7 @@ class Base(Strict):
 
 
 class Feasibility(Strict):
-    """How the sampled trajectory is checked (DESIGN §4)."""
+    """How the sampled trajectory is checked (FTFOF §III.B; README, sample)."""
 
     n_t: Annotated[int, Field(ge=16)] = 256  # time samples over [0, T3]
     position_tolerance: NonNegativeFloat = 1e-6  # m
@@ -389,7 +389,7 @@ class Sample(Strict):
 
 
 class EpsBezier(Strict):
-    """ε-Bezier baseline (eps_bezier.txt §III): obstacle box and the sigmoid truncation ε."""
+    """ε-Bezier baseline (ε-Bezier paper §III): obstacle box and the sigmoid truncation ε."""
 
     epsilon: PositiveFloat
     obstacle_x: tuple[float, float]  # x of the obstacle's top corners O1, O2, m
@@ -398,7 +398,7 @@ class EpsBezier(Strict):
 
 
 class Baselines(Strict):
-    """Common trajectories from P0 to P15 in the same total time (DESIGN §11)."""
+    """Common trajectories from P0 to P15 in the same total time (FTFOF §VI.D)."""
 
     lift_height: PositiveFloat  # polynomial and cycloid apex, m
     eps_bezier: EpsBezier

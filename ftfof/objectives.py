@@ -1,4 +1,4 @@
-"""The seven strategy functions fs1..fs7 (FTFOF §V.A, DESIGN §9), vectorised over a population.
+"""The seven strategy functions fs1..fs7 (FTFOF §V.A), vectorised over a population.
 
 Every function takes (pop, n) or (pop, n, d) arrays and returns (pop,). fs1, fs2, fs3 and fs7 read
 force series (predicted or simulated); fs4, fs5 and fs6 read the sampled trajectory.

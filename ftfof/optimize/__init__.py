@@ -1,1 +1,1 @@
-"""Search the trajectory space on the surrogates and choose one trajectory (DESIGN §9-§10)."""
+"""Search the trajectory space on the surrogates and choose one trajectory (FTFOF §V)."""

@@ -4,7 +4,8 @@ Objectives are visited in priority order, cyclically; each visit keeps the rows 
 fraction alpha of that objective's remaining range above its minimum, and alpha shrinks by
 beta^k after the k-th visit. The row holding the minimum always survives, so the set is never
 empty. A constant column keeps every row; when alpha underflows with several rows left (exact
-ties), the lexicographic minimum in priority order wins, then the lowest row index. DESIGN §10.
+ties), the lexicographic minimum in priority order wins, then the lowest row index
+(FTFOF Algorithm 1, §V.C).
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""NSGA-II over a trajectory problem, with a convergence record (FTFOF §V.B, DESIGN §10).
+"""NSGA-II over a trajectory problem, with a convergence record (FTFOF §V.B).
 
 The initial population can be seeded with feasible trajectories: for robots whose feasible set is
 a sliver of the box (MST-M3F accepts about 5e-4 of uniform draws) a uniform start spends hundreds

@@ -1,5 +1,5 @@
 """MLflow conventions: where the store is, what every run is tagged with, and how a run links to
-the run that made its inputs (DESIGN §8)."""
+the run that made its inputs (README, Browsing runs in MLflow)."""
 
 from __future__ import annotations
 

@@ -1,10 +1,10 @@
-"""Trajectories legged robots commonly use, from P0 to P15 in the same total time (DESIGN §11).
+"""Trajectories legged robots commonly use, from P0 to P15 in the same total time (FTFOF §VI.D).
 
 - polynomial: quintic (minimum-jerk) progress along x, a sextic bump 64 tau^3 (1 - tau)^3 in z;
   zero velocity and acceleration at both ends;
 - cycloidal: the classic swing cycloid x = S (tau - sin(2 pi tau) / 2 pi),
   z = H (1 - cos(2 pi tau)) / 2 (zero end velocity, non-zero end vertical acceleration);
-- ε-Bezier (eps_bezier.txt §III): a 3rd-order Bezier (eq. 7) whose control points clear an
+- ε-Bezier (ε-Bezier paper §III): a 3rd-order Bezier (eq. 7) whose control points clear an
   obstacle box (eq. 8-10), run through the truncated-sigmoid time warp of eq. 11;
 - random Bezier: one feasible three-segment quintic drawn by the sampler (seeded).
 
@@ -87,7 +87,7 @@ class Cycloidal:
 
 
 def eps_warp(u: Array, eps: float) -> tuple[Array, Array, Array]:
-    """Truncated sigmoid time warp m(u) of eps_bezier.txt eq. 11 and its first two derivatives.
+    """Truncated sigmoid time warp m(u) (ε-Bezier paper, eq. 11) and its first two derivatives.
 
     m(0) = 0, m(1) = 1, point-symmetric about (1/2, 1/2); tends to the identity as eps -> 0.
     """

@@ -1,4 +1,4 @@
-"""Three-segment quintic Bezier foot trajectory (FTFOF §III.A, DESIGN §3).
+"""Three-segment quintic Bezier foot trajectory (FTFOF §III.A).
 
 Sixteen control points P0..P15; segments P0-P5 on [0, T1], P5-P10 on [T1, T2], P10-P15 on
 [T2, T3]. The 12 decision values fix P3, P4, P5, P10, P11, P12; P0 and P15 come from the robot,
@@ -61,7 +61,7 @@ def control_points(X: Array, p0: Array, p15: Array, timing: Timing) -> Array:
 def control_points_from_free(free: Array, p0: Array, p15: Array, timing: Timing) -> Array:
     """All 16 control points from P3 P4 P5 P10 P11 P12 given as (pop, 6, d), any dimension d.
 
-    Applies the smooth-end conditions (eq. 6) and the duration-aware C2 joins (DESIGN §3).
+    Applies the smooth-end conditions (eq. 6) and C2 joins that account for the segments' durations.
     """
     free = np.asarray(free, dtype=float)
     pop, d = free.shape[:-2], free.shape[-1]

@@ -1,4 +1,4 @@
-"""The foot-structure constraint policy (FTFOF §III.B, §VI.A; DESIGN §4).
+"""The foot-structure constraint policy (FTFOF §III.B, §VI.A).
 
 Turns a robot preset plus its resolved limits into
 

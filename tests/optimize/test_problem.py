@@ -52,8 +52,8 @@ def test_ties_are_honoured_in_every_decision_vector(mst_q, surrogate):
     problem = _problem(mst_q, surrogate)
     free = mst_q.policy.lower + 0.3 * (mst_q.policy.upper - mst_q.policy.lower)
     X = problem.evaluate_population(np.tile(free, (3, 1))).X
-    # mst_q (DESIGN §5): P10x = P11x = P12x and P3x = P4x = P5x = 0
-    # decision order (DESIGN §3): P3x, P4x, P5x, P10x, P11x, P12x, P3z, ...
+    # mst_q (FTFOF §VII, shape rules vertical): P10x = P11x = P12x and P3x = P4x = P5x = 0
+    # decision order (bezier.DECISION_NAMES): P3x, P4x, P5x, P10x, P11x, P12x, P3z, ...
     np.testing.assert_array_equal(X[:, 3], X[:, 4])
     np.testing.assert_array_equal(X[:, 3], X[:, 5])
     np.testing.assert_array_equal(X[:, 0:3], 0.0)

@@ -1,4 +1,4 @@
-"""Redundancy hierarchical strategy (FTFOF Algorithm 1, DESIGN §10)."""
+"""Redundancy hierarchical strategy (FTFOF Algorithm 1, §V.C)."""
 
 import numpy as np
 import pytest

@@ -88,7 +88,7 @@ def test_optimum_is_feasible_for_an_independent_fine_check(optimized):
     optimum = json.loads((out / "optimum.json").read_text())
     X = np.array([[optimum["decision"][n] for n in DECISION_NAMES]])
     assert ctx.policy.check(X).feasible.all(), ctx.policy.check(X).failed(0)
-    if robot == "mst_q":  # DESIGN §5 ties
+    if robot == "mst_q":  # its vertical shape ties P3x = P4x = P5x and P10x = P11x = P12x
         d = optimum["decision"]
         assert d["P10x"] == d["P11x"] == d["P12x"]
         assert d["P3x"] == d["P4x"] == d["P5x"] == 0.0

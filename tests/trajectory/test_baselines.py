@@ -70,7 +70,7 @@ def test_eps_warp_derivatives():
 
 
 def test_larger_eps_lands_slower_but_swings_faster():
-    """eps_bezier.txt §III.B: end speed falls as eps grows; above eps ~ 1 the peak speed rises."""
+    """ε-Bezier paper §III.B: end speed falls as eps grows; above eps ~ 1 the peak speed rises."""
     speeds = []
     for eps in (2.0, 4.0, 8.0):
         traj = EpsBezier.clearing(P0, P15, EPS.model_copy(update={"epsilon": eps}), T)

@@ -22,7 +22,7 @@ P0, P15 = np.zeros(2), np.array([0.12, 0.0])
 def test_published_optimum_swing_peaks_at_64_mm_with_equal_thirds():
     s = evaluate(PUBLISHED_M3F, P0, P15, THIRDS, THIRDS.grid(20001))
     assert s.position[0, :, 1].max() * 1000 == pytest.approx(64.0, abs=0.1)
-    # ... although its swing control points P8, P9 lie above Pplz = 64 mm (DESIGN §4).
+    # ... although its swing control points P8, P9 lie above Pplz = 64 mm (FTFOF §VI.A).
     P = control_points(PUBLISHED_M3F, P0, P15, THIRDS)
     assert P[8, 1] * 1000 == pytest.approx(83.5, abs=0.05)
     assert P[9, 1] * 1000 == pytest.approx(66.7, abs=0.05)

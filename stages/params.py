@@ -1,4 +1,5 @@
-"""Load and validate ``params.yaml`` once, at the edge, with errors that name the key path."""
+"""Load and validate ``params.yaml`` once, at the edge, with errors that name the key path; and
+rewrite it, the one way every command that edits it uses."""
 
 from __future__ import annotations
 

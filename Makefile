@@ -1,6 +1,6 @@
 # Two commands on a fresh machine (each builds .venv when it is missing):
 #   make repro   runs the pipeline (`dvc repro`) on params.yaml
-#   make test    runs the test suite (fast tests, then the slow end-to-end ones)
+#   make test    runs the test suite in its three layers: unit (default), integration, slow
 PYTHON ?= python3.11
 VENV := .venv
 BIN := $(VENV)/bin
@@ -29,8 +29,10 @@ $(CHROMIUM):
 	$(SUDO) apt-get update -qq
 	DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq chromium
 
+# Three disjoint layers, cheapest first, so a broken unit fails in a minute (README, Set-up).
 test: $(VENV)/.installed $(CHROMIUM)
 	pytest -q
+	pytest -q -m integration
 	pytest -q -m slow
 
 test-fast: $(VENV)/.installed

@@ -7,11 +7,11 @@ import pytest
 
 from ftfof.errors import ParamsError
 from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, parse_points
-from ftfof.robot import robot_context
 
 
-def test_baseline_specs_key_every_baseline_in_the_order_asked(params):
-    ctx = robot_context(params)
+def test_baseline_specs_key_every_baseline_in_the_order_asked(params, m3f):
+    assert params.robot == "mst_m3f"
+    ctx = m3f  # the session's context for params' robot (building one costs seconds)
     trajectories = baseline_trajectories(params, ctx)
     on = bench(params, ctx)
     assert [s.key for s in baseline_specs(on, trajectories)] == [

@@ -9,6 +9,8 @@ from ftfof.sim.simulate import simulate
 from ftfof.trajectory.baselines import Polynomial
 from tests.sim.helpers import PUBLISHED, bench, straight_pull, waypoints, with_trajectory
 
+pytestmark = pytest.mark.integration
+
 # Kendall's elastic-peel law without the rate and preload factors: R = 1 (v* huge), phi = 1.
 PLAIN = {"rate_speed": 1e12, "preload_pressure": 1.0}
 

@@ -11,6 +11,8 @@ from ftfof.data.acquisition import ACQUISITION
 from stages.cli import app
 from tests.conftest import cli_args, write_params
 
+pytestmark = pytest.mark.integration
+
 runner = CliRunner()
 
 

@@ -9,6 +9,8 @@ from typer.testing import CliRunner
 from stages.cli import app
 from tests.conftest import ROOT
 
+pytestmark = pytest.mark.integration
+
 runner = CliRunner()
 COMMANDS = [c.name for c in app.registered_commands]
 

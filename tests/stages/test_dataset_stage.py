@@ -20,6 +20,8 @@ from tests.conftest import dataset_args
 from tests.data.fake import fake_acquisition
 from tests.sim.helpers import bench
 
+pytestmark = pytest.mark.integration
+
 runner = CliRunner()
 GIT_ENV = {
     **os.environ,

@@ -6,7 +6,6 @@ import io
 import json
 import re
 import shutil
-import subprocess
 
 import numpy as np
 import pytest
@@ -14,52 +13,10 @@ from PIL import Image
 from typer.testing import CliRunner
 
 from stages.cli import app
-from tests.conftest import cli_args, write_params
+from tests.conftest import write_params
 
 runner = CliRunner()
-TINY_OPTIMIZE = {"population": 12, "generations": 4, "log_every": 2, "recheck_samples": 512}
-
-
-@pytest.fixture(scope="module")
-def evaluated(trained, tmp_path_factory):
-    tmp, uri, data = trained
-    data = copy.deepcopy(data)
-    data["optimize"] = {**data["optimize"], **TINY_OPTIMIZE}
-    data["evaluate"] = {**data["evaluate"], "front_points": 2, "export_rate_hz": 200}
-    data["acquire"] = {**data["acquire"], "workers": 2}
-    work = tmp_path_factory.mktemp("evaluate")
-    params = write_params(work / "params.yaml", data)
-    figures = work / "figures"
-    figures.mkdir()
-    for source, target in (("loss", "train_loss"), ("pred", "train_predictions")):
-        shutil.copy(tmp / f"models_{source}.png", figures / f"{target}.png")
-    optimize = cli_args(
-        "optimize",
-        params,
-        models=tmp / "models",
-        out=work / "optimize",
-        metrics=work / "optimize.json",
-        convergence=figures / "optimize_convergence.csv",
-        star=figures / "optimize_star.png",
-        pcp=figures / "optimize_pcp.png",
-    )
-    env = {"MLFLOW_TRACKING_URI": uri}
-    result = runner.invoke(app, optimize, env=env)
-    assert result.exit_code == 0, result.output
-    evaluate = cli_args(
-        "evaluate",
-        params,
-        optimize=work / "optimize",
-        models=tmp / "models",
-        figures=figures,
-        out=work / "sims",
-        report=work / "report.html",
-        metrics=work / "metrics.json",
-        export=work / "optimum.csv",
-    )
-    result = runner.invoke(app, evaluate, env=env)
-    assert result.exit_code == 0, result.output
-    return work, uri, data, evaluate
+pytestmark = pytest.mark.integration
 
 
 def test_report_is_self_contained_and_every_image_decodes(evaluated):
@@ -117,26 +74,6 @@ def test_an_optimum_of_another_robot_is_refused(evaluated):
     result = runner.invoke(app, evaluate, env={"MLFLOW_TRACKING_URI": uri})
     write_params(work / "params.yaml", data)
     assert result.exit_code != 0 and "params select 'mst_q'" in result.output
-
-
-@pytest.mark.slow
-def test_report_renders_in_headless_chromium(evaluated, tmp_path):
-    work, *_ = evaluated
-    shot = tmp_path / "report.png"
-    chromium = shutil.which("chromium") or "/usr/bin/chromium"
-    subprocess.run(
-        [
-            chromium, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
-            "--no-first-run", "--disable-background-networking", "--disable-component-update",
-            "--disable-sync", f"--user-data-dir={tmp_path / 'profile'}", "--window-size=1280,3000",
-            f"--screenshot={shot}", (work / "report.html").as_uri(),
-        ],
-        check=True, capture_output=True, timeout=120,
-    )  # fmt: skip
-    image = Image.open(shot)
-    assert image.size == (1280, 3000)
-    # a rendered page, not a blank one: the table and figures put many colours on it
-    assert len(image.convert("RGB").getcolors(maxcolors=1 << 20) or []) > 50
 
 
 def test_missing_figure_and_other_models_are_refused_before_simulating(evaluated, tmp_path):

@@ -14,6 +14,8 @@ from ftfof.trajectory.bezier import DECISION_NAMES
 from stages.cli import app
 from tests.conftest import cli_args, train_models, write_params
 
+pytestmark = pytest.mark.integration
+
 runner = CliRunner()
 TINY = {"population": 16, "generations": 6, "log_every": 2, "recheck_samples": 1024}
 

@@ -4,6 +4,8 @@ import os
 import subprocess
 import sys
 
+import pytest
+
 from stages import runtime
 from tests.conftest import ROOT
 
@@ -21,6 +23,7 @@ def test_other_architectures_keep_their_native_paths(monkeypatch):
     assert runtime.pin_numerics(env) == {} and env == {"MKL_CBWR": "AUTO"}
 
 
+@pytest.mark.integration  # starts a stage process
 def test_a_stage_process_compiles_for_the_pinned_target_whatever_the_host_says():
     env = {**os.environ, "MKL_CBWR": "AVX512", "NUMBA_CPU_NAME": "skylake-avx512"}
     code = (

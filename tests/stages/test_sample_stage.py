@@ -4,11 +4,14 @@ import json
 
 import numpy as np
 import pyarrow.parquet as pq
+import pytest
 from typer.testing import CliRunner
 
 from ftfof.data.schema import TRAJECTORIES
 from stages.cli import app
 from tests.conftest import write_params
+
+pytestmark = pytest.mark.integration
 
 runner = CliRunner()
 

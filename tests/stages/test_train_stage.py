@@ -7,6 +7,8 @@ import torch
 
 from ftfof.surrogate.store import load_surrogate
 
+pytestmark = pytest.mark.integration
+
 
 def test_models_load_with_weights_only(trained):
     tmp, _, _ = trained
@@ -108,57 +110,3 @@ def test_every_train_run_records_the_dataset_it_trained_on(trained):
         assert entry.dataset.digest == md5
         assert "data/dataset/samples.parquet" in entry.dataset.source
         assert {t.key: t.value for t in entry.tags}["mlflow.data.context"] == "training"
-
-
-def _state_digest(directory) -> dict[str, str]:
-    import hashlib
-
-    out = {}
-    for path in sorted(directory.glob("*.pt")):
-        state = torch.load(path, weights_only=True)
-        h = hashlib.sha256()
-        for key in sorted(state):
-            h.update(key.encode() + state[key].numpy().tobytes())
-        out[path.name] = h.hexdigest()
-    return out
-
-
-@pytest.mark.slow
-def test_training_gives_identical_weights_on_avx2_and_avx512_machines(trained, tmp_path):
-    """The same stage under an AVX2-only machine's environment and a native (AVX-512) one."""
-    import os
-    import subprocess
-    import sys
-
-    from tests.conftest import ROOT
-
-    tmp, _, _ = trained
-    machines = {
-        "avx2": {"MKL_CBWR": "AVX2", "ATEN_CPU_CAPABILITY": "avx2"},
-        "native": {},
-    }
-    pinned = ("MKL_CBWR", "ATEN_CPU_CAPABILITY", "NUMBA_CPU_NAME", "NUMBA_CPU_FEATURES")
-    digests = {}
-    for name, extra in machines.items():
-        env = {k: v for k, v in os.environ.items() if k not in pinned}
-        env.update(extra, MLFLOW_TRACKING_URI=f"sqlite:///{tmp_path / name}.db")
-        args = ["-p", tmp / "params.yaml", "--dataset", tmp / "ds", "--out", tmp_path / name]
-        args += ["--metrics", tmp_path / f"{name}.json"]
-        args += [
-            "--loss-plot",
-            tmp_path / f"{name}_l.png",
-            "--pred-plot",
-            tmp_path / f"{name}_p.png",
-        ]
-        result = subprocess.run(
-            [sys.executable, "-m", "ftfof", "train", *map(str, args)],
-            cwd=ROOT,
-            env=env,
-            capture_output=True,
-            text=True,
-            timeout=600,
-        )
-        assert result.returncode == 0, result.stderr
-        digests[name] = _state_digest(tmp_path / name)
-    assert len(digests["avx2"]) == 4
-    assert digests["avx2"] == digests["native"]

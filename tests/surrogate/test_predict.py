@@ -17,4 +17,3 @@ def test_numpy_gru_matches_torch(hidden, layers):
         expected = model(x)[..., 0].double().numpy()
     weights = GRUWeights.from_state({k: v.numpy() for k, v in model.state_dict().items()})
     np.testing.assert_allclose(weights(x.numpy()), expected, rtol=1e-5, atol=1e-6)
-    assert np.all(weights(x.numpy()) >= 0)

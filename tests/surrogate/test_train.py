@@ -15,6 +15,7 @@ def _toy(n: int, seed: int):
     return x, y
 
 
+@pytest.mark.integration  # trains a GRU
 def test_training_is_deterministic_and_learns():
     x, y = _toy(48, 0)
     xv, yv = _toy(16, 1)
@@ -27,6 +28,7 @@ def test_training_is_deterministic_and_learns():
     assert a.history.validation[-1] < a.history.validation[0]
 
 
+@pytest.mark.integration  # trains a GRU
 def test_dilate_training_runs_and_early_stopping_keeps_the_best_epoch():
     x, y = _toy(32, 2)
     xv, yv = _toy(8, 3)

@@ -1,0 +1,68 @@
+"""The calibration fit on a synthetic surface model: no simulator, the parameter update alone."""
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from ftfof.sim import calibrate as cal
+
+TRUE = {"strength": 20000.0, "fracture_energy": 40.0}
+
+
+def _model(strength: float, energy: float, failing=()):
+    """A stand-in for `run_all`: Table I exactly at ``true``, Kendall-like scaling around it."""
+
+    def run_all(specs, workers):
+        s, g = specs[0][1].strength / strength, specs[0][1].fracture_energy / energy
+        out = []
+        for name, _ in specs:
+            t = cal.TABLE_I[name]
+            scalars = {
+                "peak_detachment": t["peak_detachment"] * np.sqrt(s * g),
+                "peak_pre_pressure": t["peak_pre_pressure"] * np.sqrt(s) * g**-0.25,
+            }
+            ok = name not in failing
+            out.append(SimpleNamespace(source=f"baseline:{name}", ok=ok, scalars=scalars))
+        return out
+
+    return run_all
+
+
+def _fit(monkeypatch, params, true=TRUE, failing=(), max_opening=5e-3):
+    run_all = _model(true["strength"], true["fracture_energy"], failing)
+    monkeypatch.setattr(cal, "run_all", run_all)
+    surface = params.surfaces["acrylic"]
+    bounds = {"strength": (5e3, 1e5), "fracture_energy": (5.0, 500.0)}
+    return cal.calibrate(
+        surface,
+        lambda trial: [(name, trial) for name in cal.TABLE_I],
+        bounds,
+        max_evaluations=200,
+        max_critical_opening=max_opening,
+    )
+
+
+def test_the_fit_recovers_the_surface_that_reproduces_table_i(monkeypatch, params):
+    start = params.surfaces["acrylic"]
+    assert abs(start.strength / TRUE["strength"] - 1) > 0.1  # the fit has somewhere to go
+    fit = _fit(monkeypatch, params)
+    assert fit.values == pytest.approx(TRUE, rel=0.02)
+    assert fit.worst < 0.01
+    assert set(fit.residuals) == {f"{n}.{q}" for n, t in cal.TABLE_I.items() for q in t}
+    assert fit.evaluations == len(fit.history) > 3
+    assert fit.measured["polynomial"]["peak_detachment"] == pytest.approx(7.49, rel=0.01)
+
+
+def test_the_critical_opening_caps_the_fracture_energy(monkeypatch, params):
+    """Table I wants G = 80 J/m^2 here, but 2 G / sigma may not exceed 2 mm: G <= 20 at 20 kPa."""
+    fit = _fit(monkeypatch, params, {"strength": 20000.0, "fracture_energy": 80.0}, (), 2e-3)
+    for trial in fit.history:
+        assert trial["fracture_energy"] <= trial["strength"] * 2e-3 / 2 * (1 + 1e-12)
+    assert fit.worst > 0.05  # the capped surface cannot meet Table I
+
+
+def test_a_failed_baseline_measures_zero_force(monkeypatch, params):
+    fit = _fit(monkeypatch, params, TRUE, ("cycloidal",))
+    assert fit.measured["cycloidal"] == {"peak_detachment": 0.0, "peak_pre_pressure": 0.0}
+    assert fit.residuals["cycloidal.peak_detachment"] == -1.0 and fit.worst == 1.0

@@ -1,0 +1,55 @@
+"""Fixtures shared by the stage tests: an optimised and evaluated tiny run (module-scoped)."""
+
+import copy
+import shutil
+
+import pytest
+from typer.testing import CliRunner
+
+from stages.cli import app
+from tests.conftest import cli_args, write_params
+
+runner = CliRunner()
+TINY_OPTIMIZE = {"population": 12, "generations": 4, "log_every": 2, "recheck_samples": 512}
+
+
+@pytest.fixture(scope="module")
+def evaluated(trained, tmp_path_factory):
+    tmp, uri, data = trained
+    data = copy.deepcopy(data)
+    data["optimize"] = {**data["optimize"], **TINY_OPTIMIZE}
+    data["evaluate"] = {**data["evaluate"], "front_points": 2, "export_rate_hz": 200}
+    data["acquire"] = {**data["acquire"], "workers": 2}
+    work = tmp_path_factory.mktemp("evaluate")
+    params = write_params(work / "params.yaml", data)
+    figures = work / "figures"
+    figures.mkdir()
+    for source, target in (("loss", "train_loss"), ("pred", "train_predictions")):
+        shutil.copy(tmp / f"models_{source}.png", figures / f"{target}.png")
+    optimize = cli_args(
+        "optimize",
+        params,
+        models=tmp / "models",
+        out=work / "optimize",
+        metrics=work / "optimize.json",
+        convergence=figures / "optimize_convergence.csv",
+        star=figures / "optimize_star.png",
+        pcp=figures / "optimize_pcp.png",
+    )
+    env = {"MLFLOW_TRACKING_URI": uri}
+    result = runner.invoke(app, optimize, env=env)
+    assert result.exit_code == 0, result.output
+    evaluate = cli_args(
+        "evaluate",
+        params,
+        optimize=work / "optimize",
+        models=tmp / "models",
+        figures=figures,
+        out=work / "sims",
+        report=work / "report.html",
+        metrics=work / "metrics.json",
+        export=work / "optimum.csv",
+    )
+    result = runner.invoke(app, evaluate, env=env)
+    assert result.exit_code == 0, result.output
+    return work, uri, data, evaluate

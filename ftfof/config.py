@@ -231,7 +231,9 @@ class Surface(Strict):
     note: str  # where the numbers come from
     strength: PositiveFloat  # sigma_max, Pa
     fracture_energy: PositiveFloat  # G_c, J/m^2
-    shear_ratio: PositiveFloat  # shear strength / normal strength (equal critical separations)
+    # mode II (shear) against mode I: strength tau/sigma and fracture energy G_II/G_I
+    shear_strength_ratio: PositiveFloat
+    shear_energy_ratio: PositiveFloat
     rate_exponent: PositiveFloat  # n in R(v) = 1 + (v / v*)^n
     rate_speed: PositiveFloat  # v*, m/s
     preload_pressure: PositiveFloat  # p* in phi = 1 - exp(-p_max / p*), Pa

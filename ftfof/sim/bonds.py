@@ -3,19 +3,22 @@
 Force law (evaluated in C++ as a symbolic user function, see :mod:`ftfof.sim.model`), per node
 with opening u_n (film above plate), slip u_t from the bond's anchor and pad area A:
 
-- bonded: f = s K A (u_t * shear_ratio, u_n) — a linear spring through zero whose stiffness is
-  scaled by s = phi * R: the preload factor phi = 1 - exp(-p_max / p*) of the peak contact
-  pressure seen while bonded, and the rate factor R = max over the current loading of
-  1 + (v / v*)^n, v the local opening rate low-passed over RATE_FILTER seconds (so the snap of a
-  neighbour's release does not count as loading rate); a history variable, so Newton sees a
-  constant law within each step;
+- bonded: f = s A (K_t u_t, K u_n) — linear springs through zero whose stiffness is scaled by
+  s = phi * R: the preload factor phi = 1 - exp(-p_max / p*) of the peak contact pressure seen
+  while bonded, and the rate factor R = max over the current loading of 1 + (v / v*)^n, v the
+  rate of the *mixed-mode* opening (normal and shear alike, each relative to its own critical
+  opening) low-passed over RATE_FILTER seconds (so the snap of a neighbour's release does not
+  count as loading rate); a history variable, so Newton sees a constant law within each step;
 - every node: unilateral contact with a C1 ramp of width w (stiffness rises 0 -> Kc A over w)
   and Hunt-Crossley damping; broken nodes in contact get Coulomb friction mu * N (regularised).
 
-The bond is brittle and energy-consistent: K = sigma^2 / (2 G) and it breaks when the mixed-mode
-opening lambda = sqrt((max(u_n, 0)/d_c)^2 + (u_t/d_c)^2) reaches 1, d_c = 2 G / sigma, so the
-energy released per area is G and the peak traction sigma (both times s R). A broken node pressed
-above the re-bond pressure forms a new bond anchored where it lies.
+Each mode is brittle and energy-consistent: mode I has K = sigma^2 / (2 G) and critical opening
+d_n = 2 G / sigma; mode II has K_t = tau^2 / (2 G_II) and d_t = 2 G_II / tau, with tau and G_II
+the surface's shear ratios times sigma and G. The bond breaks when the mixed-mode opening
+lambda = sqrt((max(u_n, 0) / d_n)^2 + (u_t / d_t')^2) reaches 1. Under compression p the shear
+allowance grows by the friction the pressure adds (adhesion-offset Coulomb: |tau| <= s tau_max +
+mu p), d_t' = d_t + mu p / (s K_t), so a pressed pad does not shear off at its bare bond strength.
+A broken node pressed above the re-bond pressure forms a new bond anchored where it lies.
 
 :func:`step` is the per-time-step state machine the simulator's pre-step calls: it reads node
 states, updates the bond state in place and lists the bonds whose connector parameters must be
@@ -44,9 +47,10 @@ LOADED = 0.05  # a bond counts as loaded (its rate history grows) above this ope
 class BondLaw:
     """The per-area constants of the law for one surface."""
 
-    critical_opening: float  # d_c = 2 G / sigma, m
+    critical_opening: float  # d_n = 2 G / sigma, m
     stiffness: float  # K = sigma^2 / (2 G), Pa/m
-    shear_ratio: float
+    shear_opening: float  # d_t = 2 G_II / tau, m
+    shear_stiffness: float  # K_t = tau^2 / (2 G_II), Pa/m
     contact_stiffness: float  # Pa/m
     contact_smoothing: float  # w, m
     hunt_crossley: float  # 1.5 (1 - e) / v_ref, s/m
@@ -60,10 +64,12 @@ class BondLaw:
     @classmethod
     def from_surface(cls, surface: config.Surface, smoothing: float) -> BondLaw:
         sigma, G = surface.strength, surface.fracture_energy
+        tau, G_II = sigma * surface.shear_strength_ratio, G * surface.shear_energy_ratio
         return cls(
             critical_opening=2 * G / sigma,
             stiffness=sigma**2 / (2 * G),
-            shear_ratio=surface.shear_ratio,
+            shear_opening=2 * G_II / tau,
+            shear_stiffness=tau**2 / (2 * G_II),
             contact_stiffness=surface.contact_stiffness,
             contact_smoothing=smoothing,
             hunt_crossley=1.5 * (1 - surface.restitution) / 0.1,
@@ -150,14 +156,14 @@ def step(
     Returns (pushes, bonded count, lowest film height, max curvature, largest bond opening
     lambda); the last tells the step control how close the next break is.
     """
-    d_c, kc, w, hc, p_star, p_rebond, n_rate, v_star, push_step = law
+    d_c, d_t, k_t, mu, kc, w, hc, p_star, p_rebond, n_rate, v_star, push_step = law
     n = node_index.size
     n_push = 0
     n_bonded = 0
     lam_max = 0.0
     lowest = np.inf
     xp, zp = q[plate_index], q[plate_index + 1]
-    vzp = qd[plate_index + 1]
+    vxp, vzp = qd[plate_index], qd[plate_index + 1]
     for i in range(n):
         j = node_index[i]
         x = x_ref[i] + q[j]
@@ -169,7 +175,9 @@ def step(
         pressure = kc * (ramp * ramp / (2 * w) + max(pen - w, 0.0)) * max(1 - hc * vn, 0.0)
         if not broken[i]:
             ut = x - xp - anchor[i]
-            lam = np.sqrt((max(un, 0.0) / d_c) ** 2 + (ut / d_c) ** 2)
+            d_shear = d_t + mu * pressure / (max(scale[i], 1e-12) * k_t)
+            a_n, a_t = max(un, 0.0) / d_c, ut / d_shear
+            lam = np.sqrt(a_n * a_n + a_t * a_t)
             if lam >= 1.0:
                 broken[i] = True
                 push[n_push] = i
@@ -179,7 +187,13 @@ def step(
             n_bonded += 1
             lam_max = max(lam_max, lam)
             p_max[i] = max(p_max[i], pressure)
-            opening_rate[i] += (vn - opening_rate[i]) * min(h / RATE_FILTER, 1.0)
+            # rate of the mixed-mode opening, in units of the normal critical opening per second
+            vt = qd[j] - vxp
+            if lam > 0.0:
+                v_mixed = d_c * (a_n * vn / d_c + a_t * vt / d_shear) / lam
+            else:
+                v_mixed = max(vn, 0.0)
+            opening_rate[i] += (v_mixed - opening_rate[i]) * min(h / RATE_FILTER, 1.0)
             if lam > LOADED and opening_rate[i] > 0.0:
                 rate[i] = max(rate[i], 1.0 + (opening_rate[i] / v_star) ** n_rate)
             target = (1.0 - np.exp(-p_max[i] / p_star)) * rate[i]
@@ -216,6 +230,9 @@ def kernel_law(law: BondLaw, push_step: float = PUSH_STEP) -> tuple[float, ...]:
     """The constants :func:`step` needs, in its order (area-independent)."""
     return (
         law.critical_opening,
+        law.shear_opening,
+        law.shear_stiffness,
+        law.friction,
         law.contact_stiffness,
         law.contact_smoothing,
         law.hunt_crossley,

@@ -13,7 +13,7 @@ Planar: Exudyn x is along the wall, Exudyn y is our z (normal to the plate). Ite
 - film: ANCF cable elements (exact EI, EA) lying on the plate ahead of the foot, x in [0, lf];
 - one cohesive bond connector per film node (law in :mod:`ftfof.sim.bonds`), all sharing one
   symbolic user function; their state lives in the connector parameters (stiffness =
-  [K A shear_ratio, K A, Kc A], damping = [broken, phi * R, 0], offset = [anchor, 0, 0]).
+  [K_t A, K A, Kc A], damping = [broken, phi * R, 0], offset = [anchor, 0, 0]).
 """
 
 from __future__ import annotations
@@ -335,11 +335,15 @@ def _bonds(p: Platform, plate_marker: Any) -> None:
     phi0 = float(law.preload_factor(p.initial_pressure))
     shared = None
     for i, node in enumerate(p.film_nodes):
-        kA = law.stiffness * p.area[i]
+        area = p.area[i]
         obj = mbs.AddObject(
             CartesianSpringDamper(
                 markerNumbers=[plate_marker, mbs.AddMarker(MarkerNodePosition(nodeNumber=node))],
-                stiffness=[kA * law.shear_ratio, kA, law.contact_stiffness * p.area[i]],
+                stiffness=[
+                    law.shear_stiffness * area,
+                    law.stiffness * area,
+                    law.contact_stiffness * area,
+                ],
                 damping=[0.0, phi0, 0.0],
                 offset=[p.x_ref[i], 0.0, 0.0],
             )

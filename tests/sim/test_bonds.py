@@ -79,11 +79,50 @@ def test_opening_past_the_critical_separation_breaks_and_reports_it(law):
 def test_mixed_mode_criterion_combines_opening_and_slip(law):
     film = Film(1)
     state = BondState.bonded(film.x, 5000.0, law)
-    d = law.critical_opening
-    film.q[film.node_index[0]] = 0.75 * d  # slip
-    film.q[film.node_index[0] + 1] = 0.75 * d  # opening: lambda = 1.06
+    film.q[film.node_index[0]] = 0.7 * law.shear_opening  # slip
+    film.q[film.node_index[0] + 1] = 0.7 * law.critical_opening  # opening: lambda = 0.99
+    _, pushes = film.step(state, law)
+    assert pushes == []
+    film.q[film.node_index[0] + 1] = 0.75 * law.critical_opening  # lambda = 1.03
     _, pushes = film.step(state, law)
     assert pushes == [(0, bonds.BREAK)]
+
+
+def test_each_mode_releases_its_own_fracture_energy(law, params):
+    s = params.selected_surface
+    tau, G_II = s.strength * s.shear_strength_ratio, s.fracture_energy * s.shear_energy_ratio
+    assert law.shear_stiffness * law.shear_opening == pytest.approx(tau)
+    assert 0.5 * law.shear_stiffness * law.shear_opening**2 == pytest.approx(G_II)
+
+
+def test_pressure_on_a_bonded_node_adds_friction_to_its_shear_allowance(law):
+    """|tau| <= s tau_max + mu p: a slip that breaks a free bond holds under compression."""
+    slip = 1.1 * law.shear_opening
+    free, pressed = Film(1), Film(1)
+    for film in (free, pressed):
+        film.q[film.node_index[0]] = slip
+    pressed.q[pressed.node_index[0] + 1] = -20 * law.contact_smoothing  # pressed in
+    p = float(law.contact_pressure(np.array([-20 * law.contact_smoothing]), np.zeros(1))[0])
+    state = BondState.bonded(free.x, 1e6, law)
+    assert law.friction * p > 0.1 * state.scale[0] * law.shear_stiffness * law.shear_opening
+    _, pushes = free.step(state, law)
+    assert pushes == [(0, bonds.BREAK)]
+    state = BondState.bonded(pressed.x, 1e6, law)
+    _, pushes = pressed.step(state, law)
+    assert not state.broken[0]
+
+
+def test_shear_rate_raises_the_scale_like_opening_rate(law):
+    """The rate factor follows the mixed-mode opening: a fast slip stiffens the bond too."""
+    film = Film(1)
+    state = BondState.bonded(film.x, 1e6, law)
+    before = state.scale[0]
+    film.q[film.node_index[0]] = 0.5 * law.shear_opening
+    film.qd[film.node_index[0]] = 0.5 * law.shear_opening / law.critical_opening  # ~0.5 m/s
+    for _ in range(100):
+        film.step(state, law)
+    assert state.rate[0] > 1.5
+    assert state.scale[0] > before * 1.5
 
 
 def test_broken_node_pressed_hard_rebonds_where_it_lies(law):

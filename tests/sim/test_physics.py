@@ -140,3 +140,45 @@ def test_joint_level_leg_agrees_with_the_lumped_leg(params):
     assert lumped.ok and joints.ok, (lumped.error, joints.error)
     for q in ("peak_detachment", "peak_pre_pressure"):
         assert joints.scalars[q] == pytest.approx(lumped.scalars[q], rel=0.15), q
+
+
+def _whole_pad(params, surface: dict, pre_pressure: float = 0.1):
+    """The foot clamps the whole pad: pull-off and lap shear load every bond alike."""
+    lf = params.selected_robot.foot.pad_length
+    foot = {"grip_length": lf, "ankle_stiffness": 50.0}
+    return bench(params, surface=surface, foot=foot, robot={"pre_pressure": pre_pressure})
+
+
+def test_lap_shear_and_pull_off_of_the_whole_pad_hold_the_two_mode_strengths(params):
+    """With almost no preload, every bond loaded alike: tau_max A in shear, sigma_max A in pull."""
+    b = _whole_pad(params, PLAIN)
+    pull = waypoints([0.0, 0.3], [(0, 0), (0, 0.03)], [(0, 0), (0, 0)])
+    shear = waypoints([0.0, 0.6], [(0, 0), (0.03, 0)], [(0, 0), (0, 0)])
+    pulled, sheared = _run_all([with_trajectory(b, pull, "pull"), with_trajectory(b, shear, "lap")])
+    assert pulled.ok and sheared.ok, (pulled.error, sheared.error)
+    surface = params.selected_surface
+    area = params.selected_robot.platform.film.width * params.selected_robot.foot.pad_length
+    assert pulled.scalars["peak_normal"] == pytest.approx(surface.strength * area, rel=0.15)
+    tau = surface.strength * surface.shear_strength_ratio
+    assert sheared.scalars["peak_shear"] == pytest.approx(tau * area, rel=0.15)
+    assert sheared.channels["bonds"].min() == 0  # it did shear off (and re-bonds when held)
+
+
+def test_lap_shear_rises_with_shear_speed(params):
+    """The rate factor applies to the mixed-mode opening, not to the normal opening only."""
+    b = _whole_pad(params, {})
+    specs = [
+        with_trajectory(b, waypoints([0.0, T], [(0, 0), (0.03, 0)], [(0, 0), (0, 0)]), f"lap{T}")
+        for T in (1.2, 0.15)
+    ]
+    slow, fast = (r.scalars["peak_shear"] for r in _run_all(specs))
+    assert fast > 1.1 * slow, (slow, fast)
+
+
+def test_dragging_the_foot_forward_low_over_the_pad_costs_a_180_degree_peel(params):
+    """Folding the film back over itself is Kendall's 180-degree peel, F = bG/2, not free."""
+    drag = waypoints([0.0, 0.1, 1.0], [(0, 0), (0, 0.003), (0.08, 0.003)], [(0, 0), (0, 0), (0, 0)])
+    result = simulate(with_trajectory(bench(params, surface=PLAIN), drag, "drag"))
+    assert result.ok, result.error
+    bG = params.selected_robot.platform.film.width * params.selected_surface.fracture_energy
+    assert result.scalars["peak_pull"] >= bG / 2

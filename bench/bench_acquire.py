@@ -14,13 +14,13 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from ftfof.pipeline.params_file import load_params
 from ftfof.robot import robot_context
 from ftfof.seeds import seed_for
 from ftfof.sim import pool
 from ftfof.sim.simulate import simulate
 from ftfof.sim.spec import Bench
 from ftfof.trajectory.sampling import sample_feasible
-from stages.params import load_params
 from stages.runtime import tune_allocator
 
 

@@ -23,7 +23,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from bench.common import best_of, row
 from ftfof.optimize.search import search
 from ftfof.pipeline.optimize import prepare
-from stages.params import load_params
+from ftfof.pipeline.params_file import load_params
 from stages.runtime import tune_allocator
 
 

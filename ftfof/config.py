@@ -1,7 +1,8 @@
 """Typed settings: the one schema every stage validates ``params.yaml`` against.
 
-The models are pure (no file IO); ``stages.params`` reads the YAML and builds them. Every model
-forbids unknown keys, so a typo fails loudly with its key path instead of being ignored.
+The models are pure (no file IO); ``ftfof.pipeline.params_file`` reads the YAML and builds them.
+Every model forbids unknown keys, so a typo fails loudly with its key path instead of being
+ignored.
 """
 
 from __future__ import annotations

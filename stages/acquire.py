@@ -32,7 +32,7 @@ def command(
     """Simulate the force-acquisition platform for every trajectory (resumable)."""
     from ftfof.pipeline.io import write_json
     from ftfof.pipeline.jobs import FINAL, Acquisition
-    from stages.params import load_params
+    from ftfof.pipeline.params_file import load_params
 
     job = Acquisition.prepare(load_params(params_path), trajectories, out, limit)
     cfg = job.params.acquire

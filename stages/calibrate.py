@@ -34,7 +34,7 @@ def command(
 ) -> None:
     """Fit the surface's strength and fracture energy (and one more) to FTFOF Table I."""
     from ftfof.pipeline.calibration import fit_surface
-    from stages.params import edit_params, load_params
+    from ftfof.pipeline.params_file import edit_params, load_params
 
     params = load_params(params_path)
     fit = fit_surface(params, third, evaluations)
@@ -52,7 +52,7 @@ def command(
 
 def update_surface(document: Any, surface: str, values: dict[str, float]) -> None:
     """Set ``surfaces.<surface>.<name>`` in a round-trip document, each with the fit's comment."""
-    from stages.params import yaml_float
+    from ftfof.pipeline.params_file import yaml_float
 
     block = document.get("surfaces", {}).get(surface)
     missing = sorted(set(values) - set(block or ()))

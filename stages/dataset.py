@@ -31,7 +31,7 @@ def command(
 
     from ftfof.pipeline.dataset import build
     from ftfof.pipeline.io import atomic_dir, save_figure, write_json
-    from stages.params import load_params
+    from ftfof.pipeline.params_file import load_params
 
     built = build(load_params(params_path), acquisition, imported)
     # Everything is computed; now write: the dataset directory appears whole or not at all.

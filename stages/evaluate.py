@@ -37,7 +37,7 @@ def command(
     """Re-simulate the optimum against the common trajectories; report, metrics, export."""
     from ftfof.evaluate.run import OPTIMUM
     from ftfof.pipeline.evaluate import Paths, run
-    from stages.params import load_params
+    from ftfof.pipeline.params_file import load_params
 
     params = load_params(params_path)
     paths = Paths(optimize, models, figures, out, report, metrics, export)

@@ -33,7 +33,7 @@ def command(
     from ftfof.data.logs import parse
     from ftfof.errors import DataError
     from ftfof.pipeline.io import write_parquet
-    from stages.params import load_params
+    from ftfof.pipeline.params_file import load_params
 
     params = load_params(params_path)
     T3 = duration if duration is not None else params.selected_robot.timing.T3

@@ -33,7 +33,7 @@ def command(
 ) -> None:
     """Search the trajectory space with NSGA-II on the surrogates; choose one by RHS."""
     from ftfof.pipeline.optimize import OptimizeRun, Outputs, prepare
-    from stages.params import load_params
+    from ftfof.pipeline.params_file import load_params
 
     params = load_params(params_path)
     setup = prepare(params, models)

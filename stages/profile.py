@@ -24,7 +24,7 @@ def command(
 ) -> None:
     """Apply a named profile of overrides to params.yaml (validated, comments kept)."""
     from ftfof.errors import ParamsError
-    from stages.params import edit_params, read_yaml
+    from ftfof.pipeline.params_file import edit_params, read_yaml
 
     source = profiles / f"{name}.yaml"
     if not source.exists():

@@ -26,11 +26,11 @@ def command(
     import pyarrow as pa
 
     from ftfof.data.schema import TRAJECTORIES
+    from ftfof.pipeline.params_file import load_params
     from ftfof.robot import robot_context
     from ftfof.seeds import seed_for
     from ftfof.trajectory.bezier import DECISION_NAMES
     from ftfof.trajectory.sampling import sample_feasible
-    from stages.params import load_params
 
     params = load_params(params_path)
     ctx = robot_context(params)

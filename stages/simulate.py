@@ -37,13 +37,13 @@ def command(
     from ftfof.errors import ParamsError
     from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, parse_points
     from ftfof.pipeline.io import read_table
+    from ftfof.pipeline.params_file import load_params
     from ftfof.report.figures import sample_figure
     from ftfof.robot import robot_context
     from ftfof.sim.records import CHANNELS
     from ftfof.sim.simulate import simulate
     from ftfof.trajectory.baselines import BASELINE_NAMES
     from ftfof.trajectory.bezier import DECISION_NAMES
-    from stages.params import load_params
 
     chosen = [x is not None for x in (points, row, baseline)]
     if sum(chosen) != 1:

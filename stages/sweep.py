@@ -21,8 +21,8 @@ def command(
     poll: Annotated[float, typer.Option(min=0.1, help="Seconds between queue checks.")] = 5.0,
 ) -> None:
     """Queue one experiment per combination (`dvc exp run --queue`), start `jobs` workers."""
+    from ftfof.pipeline.params_file import load_params
     from ftfof.pipeline.sweep import check_presets, parse_axes, plan, run
-    from stages.params import load_params
 
     params = load_params(params_path)
     axes = parse_axes(axes)

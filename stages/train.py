@@ -27,11 +27,11 @@ def command(
 ) -> None:
     """Train trajectory -> force GRUs with DILATE (and MSE for comparison); log to MLflow."""
     from ftfof.pipeline.io import save_figure, write_json
+    from ftfof.pipeline.params_file import load_params
     from ftfof.pipeline.training import track, train_all
     from ftfof.report.figures import loss_figure, prediction_figure
     from ftfof.seeds import seed_for
     from ftfof.surrogate.store import read_dataset, write_models
-    from stages.params import load_params
 
     params = load_params(params_path)
     data = read_dataset(dataset_dir)

@@ -6,8 +6,8 @@ import pytest
 import yaml
 
 from ftfof.errors import ParamsError
+from ftfof.pipeline.params_file import edit_yaml
 from stages.calibrate import update_surface
-from stages.params import edit_yaml
 
 PARAMS = "surfaces:\n  acrylic:\n    strength: 1.0  # a note\n    friction: 0.6\nrobot: m3f\n"
 

@@ -6,8 +6,8 @@ import pytest
 from typer.testing import CliRunner
 
 from ftfof.errors import ParamsError
+from ftfof.pipeline.params_file import load_params
 from stages.cli import app
-from stages.params import load_params
 from tests.conftest import ROOT, write_params
 
 runner = CliRunner()

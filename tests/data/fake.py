@@ -29,6 +29,7 @@ def fake_result(
         x_foot=x,
         z_foot=z,
         Fz=fz,
+        Fz_pad=fz,
         Fd=np.maximum(fz, 0),
         Fp=np.maximum(-fz, 0),
     )

@@ -224,6 +224,9 @@ class Robot(Strict):
     objectives: Annotated[list[Objective], Field(min_length=2), AfterValidator(_distinct)]
     pre_pressure: PositiveFloat  # a, N (FTFOF eq. 12)
     platform: PlatformMechanics
+    # The paper's published optimum (12 decision values, m), simulated in `evaluate` like a
+    # baseline and never fitted; null where the robot has none usable here.
+    published_optimum: Annotated[list[float], Field(min_length=12, max_length=12)] | None
 
 
 class Surface(Strict):

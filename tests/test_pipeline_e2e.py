@@ -4,6 +4,7 @@ Slow (a few minutes): CI runs it with `-m slow`.
 """
 
 import json
+import re
 
 import mlflow
 import pyarrow.parquet as pq
@@ -52,15 +53,17 @@ def test_every_stage_wrote_its_outputs(repo):
     optimum = json.loads((repo / "data/optimize/optimum.json").read_text())
     assert max(optimum["recheck"]["violation"].values()) <= 0
     metrics = json.loads((repo / "reports/metrics.json").read_text())
-    assert set(metrics["table"]) == {
-        "polynomial",
-        "cycloidal",
-        "random_bezier",
-        "eps_bezier",
-        "optimum",
-    }
+    order = ["polynomial", "cycloidal", "random_bezier", "eps_bezier", "paper_optimum", "optimum"]
+    assert set(metrics["table"]) == set(order)
+    for row in metrics["table"].values():
+        for column in ("peak_pull", "peak_normal", "peak_shear", "peak_pre_pressure"):
+            assert column in row and f"{column}_change" in row
+        assert "peak_body_acc" in row and "min_bend_radius_change" in row
     html = (repo / "reports/evaluate.html").read_text()
     assert "Table I analogue" in html and "http" not in html
+    # the report's table: the reference first, then the baselines, the paper's optimum and ours
+    rows = re.findall(r'<tr(?: class="optimum")?><td>(\w+)</td>', html)
+    assert rows[: len(order)] == order
     assert (repo / "reports/optimum_trajectory.csv").read_text().startswith("t [s],")
     status = run(repo, "dvc", "status")
     assert "up to date" in status.stdout

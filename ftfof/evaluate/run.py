@@ -17,13 +17,14 @@ from ftfof.config import Params
 from ftfof.errors import SimulationError
 from ftfof.evaluate.export import ControllerTrajectory, ExportRateError, controller_trajectory
 from ftfof.evaluate.fidelity import Fidelity, SimulatedForces, fidelity, simulated_objectives
-from ftfof.evaluate.table import PAPER_TABLE_I, PEAKS, TableRow, table_one
+from ftfof.evaluate.table import COLUMNS, PAPER_TABLE_I, PEAKS, TableRow, table_one
 from ftfof.kinematics.legs import build_leg
 from ftfof.robot import RobotContext
 from ftfof.surrogate.predict import Surrogate
 from ftfof.trajectory.bezier import DECISION_NAMES
 
 OPTIMUM = "optimum"
+PAPER_OPTIMUM = "baseline:paper_optimum"  # the published optimum, simulated, never fitted
 PARETO = (
     ("optimize_star.png", "Pareto front, star coordinates (cf. FTFOF Fig. 10)"),
     ("optimize_pcp.png", "Pareto front, parallel coordinates"),
@@ -72,16 +73,23 @@ def ok_rows(df: pd.DataFrame, reference: str) -> pd.DataFrame:
     return df[df.status == "ok"]
 
 
-def compared(df: pd.DataFrame) -> dict[str, pd.Series]:
-    """The baselines then the optimum, by display name: the rows of the table and the figures."""
-    sources = [s for s in df.source if s.startswith("baseline:")] + [OPTIMUM]
+def compared(df: pd.DataFrame, reference: str) -> dict[str, pd.Series]:
+    """By display name, the rows of the table and the figures: the reference, the other
+    baselines, the paper's published optimum (where the robot has one), then our optimum."""
+    baselines = [s for s in df.source if s.startswith("baseline:") and s != PAPER_OPTIMUM]
+    first = f"baseline:{reference}"
+    sources = [first, *(s for s in baselines if s != first)]
+    sources += [s for s in df.source if s == PAPER_OPTIMUM] + [OPTIMUM]
     return {s.removeprefix("baseline:"): df[df.source == s].iloc[0] for s in sources}
 
 
 def table_rows(df: pd.DataFrame, reference: str) -> list[TableRow]:
-    """The Table I analogue: baselines' and optimum's peaks, change against ``reference``."""
-    peaks = {name: {c: float(row[c]) for c, _, _ in PEAKS} for name, row in compared(df).items()}
-    return table_one(peaks, reference)
+    """The Table I analogue, with the foot's pull and film figures, against ``reference``."""
+    peaks = {
+        name: {c: float(row[c]) for c, _, _ in COLUMNS}
+        for name, row in compared(df, reference).items()
+    }
+    return table_one(peaks, reference, COLUMNS)
 
 
 def forces(row: pd.Series) -> SimulatedForces:
@@ -132,7 +140,7 @@ def metrics(
 
     def entry(row) -> dict:
         out = {}
-        for c, _, _ in PEAKS:
+        for c, _, _ in COLUMNS:
             out[c] = round(row.values[c], 4)
             out[f"{c}_change"] = round(row.change[c], 2)
         return out
@@ -157,7 +165,11 @@ def metrics(
 
 
 def simulation_figures(
-    df: pd.DataFrame, predicted: np.ndarray, simulated: np.ndarray, objectives: list[str]
+    df: pd.DataFrame,
+    predicted: np.ndarray,
+    simulated: np.ndarray,
+    objectives: list[str],
+    reference: str,
 ) -> dict[str, str]:
     """Fig. 11, 12, 14 from the simulated channels of the optimum and baselines; fidelity."""
     from ftfof.report.evaluation import fidelity_figure, forces_figure, jitter_figure, paths_figure
@@ -165,7 +177,7 @@ def simulation_figures(
 
     channels = {
         name: {c: np.asarray(row[c], dtype=float) for c in PLOTTED}
-        for name, row in compared(df).items()
+        for name, row in compared(df, reference).items()
     }
     return {
         "paths": figure_data_uri(paths_figure(channels, OPTIMUM)),
@@ -197,7 +209,8 @@ def context(
         "optimum_row": inputs.optimum["front_row"],
         "front_size": len(inputs.front),
         "reference": params.evaluate.reference,
-        "columns": [{"key": c, "label": label, "unit": unit} for c, label, unit in PEAKS],
+        "columns": [{"key": c, "label": label, "unit": unit} for c, label, unit in COLUMNS],
+        "paper_columns": [{"key": c, "label": label} for c, label, _ in PEAKS],
         "table": [
             {"trajectory": r.trajectory, "values": r.values, "change": r.change} for r in rows
         ],
@@ -242,6 +255,6 @@ def evaluate(
     fid, predicted, simulated = fidelity_of(inputs, table, ctx, surrogate)
     controller = export(ctx, inputs, cfg.export_rate_hz)
     summary = metrics(params, inputs, rows, fid, controller, len(predicted))
-    figures = simulation_figures(table, predicted, simulated, inputs.objectives)
+    figures = simulation_figures(table, predicted, simulated, inputs.objectives, cfg.reference)
     values = context(params, ctx, inputs, rows, fid, summary, predicted, simulated)
     return Evaluation(summary, values, figures, controller)

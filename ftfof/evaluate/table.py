@@ -11,12 +11,22 @@ from dataclasses import dataclass
 
 import numpy as np
 
-# (column of the acquisition table, label, unit)
-PEAKS: tuple[tuple[str, str, str], ...] = (
+Column = tuple[str, str, str]  # (column of the acquisition table, label, unit)
+# The three figures of FTFOF Table I.
+PEAKS: tuple[Column, ...] = (
     ("peak_detachment", "max detachment force", "N"),
     ("peak_pre_pressure", "max pre-pressure", "N"),
     ("peak_body_acc", "max body jitter", "m/s²"),
 )
+# What the paper's table does not show but a robot engineer checks: how the pad is pulled off
+# (resultant, normal, shear, while it holds) and how tightly the film is bent.
+FOOT: tuple[Column, ...] = (
+    ("peak_pull", "max pull (resultant)", "N"),
+    ("peak_normal", "max normal pull", "N"),
+    ("peak_shear", "max shear", "N"),
+    ("min_bend_radius", "min film bend radius", "m"),
+)
+COLUMNS: tuple[Column, ...] = PEAKS + FOOT
 
 
 @dataclass(frozen=True)
@@ -26,19 +36,23 @@ class TableRow:
     change: dict[str, float]  # % against the reference row (0 for the reference itself)
 
 
-def table_one(peaks: Mapping[str, Mapping[str, float]], reference: str) -> list[TableRow]:
-    """Rows in the given order; ``peaks[name][column]`` are the simulated figures."""
+def table_one(
+    peaks: Mapping[str, Mapping[str, float]],
+    reference: str,
+    columns: tuple[Column, ...] = PEAKS,
+) -> list[TableRow]:
+    """Rows in the given order; ``peaks[name][column]`` are the figures of ``columns``."""
     if reference not in peaks:
         raise ValueError(f"reference trajectory {reference!r} is not among {sorted(peaks)}")
     base = peaks[reference]
-    for column, label, _ in PEAKS:
+    for column, label, _ in columns:
         value = base.get(column, np.nan)
         if not np.isfinite(value) or value <= 0:
             raise ValueError(f"{reference}: {label} is {value}; no % change can be taken from it")
     rows = []
     for name, row in peaks.items():
-        values = {c: float(row[c]) for c, _, _ in PEAKS}
-        change = {c: 100.0 * (values[c] - base[c]) / base[c] for c, _, _ in PEAKS}
+        values = {c: float(row[c]) for c, _, _ in columns}
+        change = {c: 100.0 * (values[c] - base[c]) / base[c] for c, _, _ in columns}
         rows.append(TableRow(name, values, change))
     return rows
 

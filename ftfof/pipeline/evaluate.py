@@ -14,6 +14,7 @@ from ftfof.config import Params
 from ftfof.errors import DataError
 from ftfof.evaluate.run import (
     OPTIMUM,
+    PAPER_OPTIMUM,
     PARETO,
     TRAINING,
     Evaluation,
@@ -127,6 +128,11 @@ def _job(
         specs.append(spec)
         controls[spec.key] = X
     specs += baseline_specs(on, baseline_trajectories(params, ctx))
+    if ctx.robot.published_optimum is not None:  # held out: simulated, never fitted
+        X = np.asarray(ctx.robot.published_optimum, dtype=float)
+        spec = on.bezier(PAPER_OPTIMUM, 0, X)
+        specs.append(spec)
+        controls[spec.key] = X
     return Acquisition.start(
         params, ctx, out, specs, controls, {"optimum": inputs.digest, "front_rows": front_rows}
     )

@@ -6,7 +6,14 @@ import pandas as pd
 import pytest
 
 from ftfof.errors import SimulationError
-from ftfof.evaluate.run import OPTIMUM, Inputs, front_sample, ok_rows, table_rows
+from ftfof.evaluate.run import (
+    OPTIMUM,
+    PAPER_OPTIMUM,
+    Inputs,
+    front_sample,
+    ok_rows,
+    table_rows,
+)
 
 
 def _inputs(n: int, chosen: int, infeasible: tuple[int, ...] = ()) -> Inputs:
@@ -27,6 +34,7 @@ def test_front_sample_spreads_over_passing_rows_and_leaves_out_the_optimum():
 
 def _simulations(status: str = "ok") -> pd.DataFrame:
     peaks = {"peak_detachment": [2.0, 1.0], "peak_pre_pressure": [4.0, 2.0]}
+    foot = {c: [1.0, 1.0] for c in ("peak_pull", "peak_normal", "peak_shear", "min_bend_radius")}
     return pd.DataFrame(
         {
             "source": ["baseline:polynomial", OPTIMUM],
@@ -34,6 +42,7 @@ def _simulations(status: str = "ok") -> pd.DataFrame:
             "error": ["", "boom" if status != "ok" else ""],
             "peak_body_acc": [1.0, 1.0],
             **peaks,
+            **foot,
         }
     )
 
@@ -52,3 +61,25 @@ def test_table_rows_compare_the_optimum_with_the_reference():
     assert list(rows) == ["polynomial", OPTIMUM]
     assert rows[OPTIMUM].change["peak_detachment"] == pytest.approx(-50.0)
     assert rows["polynomial"].change["peak_pre_pressure"] == 0
+
+
+def test_the_table_lists_the_reference_then_baselines_then_the_paper_optimum_then_ours():
+    figures = {c: [1.0] * 4 for c in ("peak_pre_pressure", "peak_body_acc", "peak_normal")}
+    sims = pd.DataFrame(
+        {
+            "source": [OPTIMUM, PAPER_OPTIMUM, "baseline:cycloidal", "baseline:polynomial"],
+            "status": ["ok"] * 4,
+            "error": [""] * 4,
+            "peak_detachment": [1.0, 1.5, 2.5, 2.0],
+            "peak_pull": [1.2, 1.6, 2.6, 2.4],
+            "peak_shear": [0.5, 0.5, 0.5, 0.5],
+            "min_bend_radius": [0.006, 0.01, 0.004, 0.003],
+            **figures,
+        }
+    )
+    rows = table_rows(ok_rows(sims, "polynomial"), "polynomial")
+    assert [r.trajectory for r in rows] == ["polynomial", "cycloidal", "paper_optimum", OPTIMUM]
+    ours = rows[-1]
+    assert ours.change["peak_pull"] == pytest.approx(-50.0)
+    assert ours.change["min_bend_radius"] == pytest.approx(100.0)  # bent twice as gently
+    assert set(ours.values) >= {"peak_pull", "peak_normal", "peak_shear", "min_bend_radius"}

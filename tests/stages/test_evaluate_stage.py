@@ -15,6 +15,8 @@ from typer.testing import CliRunner
 from stages.cli import app
 from tests.conftest import write_params
 
+ROWS = ("polynomial", "cycloidal", "random_bezier", "eps_bezier", "paper_optimum", "optimum")
+
 runner = CliRunner()
 pytestmark = pytest.mark.integration
 
@@ -30,7 +32,7 @@ def test_report_is_self_contained_and_every_image_decodes(evaluated):
         image = Image.open(io.BytesIO(base64.b64decode(src.split(",", 1)[1])))
         image.verify()
     assert not re.search(r"""(?:href|src)=["'](?!data:|#)""", html)
-    for name in ("polynomial", "cycloidal", "random_bezier", "eps_bezier", "optimum"):
+    for name in ROWS:
         assert f"<td>{name}</td>" in html
 
 
@@ -38,8 +40,9 @@ def test_metrics_table_and_controller_export(evaluated):
     work, *_ = evaluated
     metrics = json.loads((work / "metrics.json").read_text())
     table = metrics["table"]
-    assert set(table) == {"polynomial", "cycloidal", "random_bezier", "eps_bezier", "optimum"}
+    assert set(table) == set(ROWS)
     assert table["polynomial"]["peak_detachment_change"] == 0.0
+    assert table["polynomial"]["peak_pull_change"] == 0.0
     for row in table.values():
         assert row["peak_detachment"] > 0 and row["peak_body_acc"] > 0
     assert metrics["fidelity_points"] == 3  # the optimum and two front members

@@ -77,6 +77,7 @@ class _Run:
             st.rate,
             st.scale,
             st.opening_rate,
+            st.opening_max,
             self.solver.it.currentStepSize,
             self.kernel_law,
             self.push,

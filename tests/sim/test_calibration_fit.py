@@ -8,6 +8,8 @@ import pytest
 from ftfof.sim import calibrate as cal
 
 TRUE = {"strength": 20000.0, "fracture_energy": 40.0}
+# Where the fit starts: fixed here, so re-running `ftfof calibrate` on params.yaml leaves it alone
+START = {"strength": 24416.3, "fracture_energy": 53.6248}
 
 
 def _model(strength: float, energy: float, failing=()):
@@ -32,7 +34,7 @@ def _model(strength: float, energy: float, failing=()):
 def _fit(monkeypatch, params, true=TRUE, failing=(), max_opening=5e-3):
     run_all = _model(true["strength"], true["fracture_energy"], failing)
     monkeypatch.setattr(cal, "run_all", run_all)
-    surface = params.surfaces["acrylic"]
+    surface = params.surfaces["acrylic"].model_copy(update=START)
     bounds = {"strength": (5e3, 1e5), "fracture_energy": (5.0, 500.0)}
     return cal.calibrate(
         surface,
@@ -44,8 +46,7 @@ def _fit(monkeypatch, params, true=TRUE, failing=(), max_opening=5e-3):
 
 
 def test_the_fit_recovers_the_surface_that_reproduces_table_i(monkeypatch, params):
-    start = params.surfaces["acrylic"]
-    assert abs(start.strength / TRUE["strength"] - 1) > 0.1  # the fit has somewhere to go
+    assert abs(START["strength"] / TRUE["strength"] - 1) > 0.1  # the fit has somewhere to go
     fit = _fit(monkeypatch, params)
     assert fit.values == pytest.approx(TRUE, rel=0.02)
     assert fit.worst < 0.01

@@ -49,6 +49,7 @@ from exudyn.itemInterface import (
     SensorObject,
 )
 
+from ftfof.config import FilmMechanics
 from ftfof.sim import film as film_shape
 from ftfof.sim.bonds import BondLaw
 from ftfof.sim.spec import SampleSpec
@@ -252,7 +253,7 @@ def build(spec: SampleSpec, law: BondLaw) -> Platform:
     return p
 
 
-def _bending_moment(film: Any) -> Any:
+def _bending_moment(film: FilmMechanics) -> Any:
     """Linear bending (EI, damping) plus a curvature stop: past 1 / stop_radius the moment
     rises ``stop_stiffness`` times faster, so the film cannot be folded flat at no cost."""
     limit, gain = 1.0 / film.stop_radius, film.stop_stiffness

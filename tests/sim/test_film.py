@@ -56,7 +56,7 @@ def test_the_clamp_holds_the_last_gripped_element_at_four_points():
 def test_min_bend_radius_converges_with_the_node_count(params):
     """< 10 % from N = 40 to 80 on the polynomial, Pf and a low drag; < 10 % from 20 to 40 on Pf
     and the low drag (the polynomial's clamp-edge bend, a boundary layer ~ sqrt(EI / F) = 1.4 mm
-    long, is 13 % too gentle on 2.5 mm elements)."""
+    long, is 12 % too gentle on 2.5 mm elements)."""
     poly = Polynomial(np.array([0.12, 0.0]), params.baselines.lift_height, 1.0)
     nodes = (20, 40, 80)
     specs = []

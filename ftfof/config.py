@@ -166,6 +166,8 @@ class FilmMechanics(Strict):
     mass_per_length: PositiveFloat  # kg/m, film + adhesive
     bending_damping: NonNegativeFloat  # N m^2 s
     axial_damping: NonNegativeFloat  # N s
+    stop_radius: PositiveFloat  # m: bent tighter, the film's bending moment stiffens
+    stop_stiffness: NonNegativeFloat  # how many times EI the moment rises past the stop
 
 
 class FootMechanics(Strict):

@@ -167,12 +167,11 @@ def step(
     law: tuple[float, ...],
     push: NDArray[np.int64],
     kind: NDArray[np.int64],
-) -> tuple[int, int, float, float, float]:  # pragma: no cover - compiled
+) -> tuple[int, int, float, float]:  # pragma: no cover - compiled
     """One pre-step update.
 
-    Returns (pushes, bonded count, lowest film height, max curvature, largest bond load: the
-    opening lambda / r, 1 once a bond softens); the last tells the step control how close the
-    next bond failure is.
+    Returns (pushes, bonded count, lowest film height, largest bond load: the opening lambda / r,
+    1 once a bond softens); the last tells the step control how close the next bond failure is.
     """
     d_c, d_t, tau, r, mu, kc, w, hc, p_star, p_rebond, n_rate, v_star, push_step = law
     n = node_index.size
@@ -238,17 +237,7 @@ def step(
             kind[n_push] = REBOND
             n_push += 1
             n_bonded += 1
-    # Film curvature from the ANCF node slopes: |d(angle)/ds| between neighbouring nodes.
-    kmax = 0.0
-    prev = np.arctan2(q[node_index[0] + 3], 1.0 + q[node_index[0] + 2])
-    for i in range(1, n):
-        j = node_index[i]
-        ang = np.arctan2(q[j + 3], 1.0 + q[j + 2])
-        d = ang - prev
-        d = (d + np.pi) % (2 * np.pi) - np.pi
-        kmax = max(kmax, abs(d) / (x_ref[i] - x_ref[i - 1]))
-        prev = ang
-    return n_push, n_bonded, lowest, kmax, lam_max
+    return n_push, n_bonded, lowest, lam_max
 
 
 def kernel_law(law: BondLaw, push_step: float = PUSH_STEP) -> tuple[float, ...]:

@@ -93,7 +93,7 @@ def test_opening_past_the_critical_separation_breaks_and_reports_it(law):
     film = Film(3)
     state = BondState.bonded(film.x, 5000.0, law)
     film.q[film.node_index[1] + 1] = 1.01 * law.critical_opening
-    (_, n_bonded, lowest, _, lam), pushes = film.step(state, law)
+    (_, n_bonded, lowest, lam), pushes = film.step(state, law)
     assert pushes == [(1, bonds.BREAK)]
     assert state.broken.tolist() == [False, True, False]
     assert n_bonded == 2 and lowest == pytest.approx(0.0)
@@ -185,16 +185,3 @@ def test_opening_rate_raises_the_scale_of_a_loaded_bond(law):
         film.step(state, law)
     assert state.rate[0] > 1.5
     assert state.scale[0] > before * 1.5
-
-
-def test_curvature_of_a_bent_film(law):
-    film = Film(5)
-    state = BondState.bonded(film.x, 5000.0, law)
-    radius = 0.02
-    s = film.x
-    angle = s / radius
-    for i, a in enumerate(angle):  # slope vector (cos a, sin a) stored as displacement from (1, 0)
-        film.q[film.node_index[i] + 2] = np.cos(a) - 1
-        film.q[film.node_index[i] + 3] = np.sin(a)
-    (_, _, _, kmax, _), _ = film.step(state, law)
-    assert 1 / kmax == pytest.approx(radius, rel=1e-6)

@@ -31,9 +31,16 @@ bent past ARM / stop_radius, and take it off below DISARM / stop_radius.
 
 from __future__ import annotations
 
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
 import numba
 import numpy as np
 from numpy.typing import NDArray
+
+if TYPE_CHECKING:
+    from ftfof.config import Robot, Surface
 
 Array = NDArray[np.float64]
 XI = np.array([0.0, 0.5, 1.0])  # where each element's curvature is evaluated
@@ -117,3 +124,51 @@ def arm_stops(
             changed[n_changed] = e
             n_changed += 1
     return n_changed
+
+
+def peel_root_radius(bending_stiffness: float, width: float, fracture_energy: float) -> float:
+    """The film's bend radius at the root of a steady peel, sqrt(EI / (2 b G)).
+
+    Elastica of the free arm: the energy balance at the root gives the root moment
+    M = sqrt(2 EI b G), so the root curvature M / EI is set by the film and the adhesive alone,
+    whatever the peel angle or trajectory.
+    """
+    return math.sqrt(bending_stiffness / (2.0 * width * fracture_energy))
+
+
+@dataclass(frozen=True)
+class FilmLimit:
+    """The smallest film bend radius a trajectory may cause, and where it comes from.
+
+    FTFOF's fc is a damage limit of the film. Where every peel already bends the film tighter
+    than fc (fc > the peel-root radius), fc cannot be met by any trajectory; the rule then is
+    that the trajectory must not fold the film tighter than a fraction of the peel's own bend.
+    """
+
+    fc: float  # m, the robot's film limit
+    peel_root: float  # m, sqrt(EI / (2 b G)) of this film on this surface
+    fraction: float  # of the peel-root radius, when fc is out of reach
+
+    @property
+    def radius(self) -> float:
+        return min(self.fc, self.fraction * self.peel_root)
+
+    @property
+    def fc_reachable(self) -> bool:
+        return self.fc <= self.fraction * self.peel_root
+
+    def as_dict(self) -> dict[str, float | bool]:
+        return {
+            "limit": self.radius,
+            "fc": self.fc,
+            "peel_root_radius": self.peel_root,
+            "peel_root_fraction": self.fraction,
+            "fc_reachable": self.fc_reachable,
+        }
+
+
+def film_limit(robot: Robot, surface: Surface) -> FilmLimit:
+    """The film safety limit of ``robot``'s film on ``surface``."""
+    film = robot.platform.film
+    root = peel_root_radius(film.bending_stiffness, film.width, surface.fracture_energy)
+    return FilmLimit(robot.foot.film_min_bend_radius, root, robot.foot.peel_root_fraction)

@@ -27,6 +27,7 @@ from ftfof.pipeline.console import console
 from ftfof.pipeline.digests import models_digest, optimum_digest
 from ftfof.pipeline.io import atomic_dir, atomic_path, save_figure, write_json
 from ftfof.pipeline.registry import RegisteredWeights, fetch_pair
+from ftfof.pipeline.simcheck import simulator_check
 from ftfof.robot import RobotContext, robot_context
 from ftfof.seeds import seed_for
 
@@ -165,7 +166,8 @@ class OptimizeRun:
             self._record(r)
 
         result = search(setup.problem, setup.settings, setup.initial, record)
-        outcome = choose(self.params, setup.ctx, setup.problem, result, setup.models_digest)
+        check = simulator_check(self.params, setup.ctx)
+        outcome = choose(self.params, setup.ctx, setup.problem, result, setup.models_digest, check)
         write_outputs(outcome, setup, result, self.params, to)
         artifacts = (to.star, to.pcp, to.convergence.with_suffix(".png"), to.convergence)
         self._finish(outcome, artifacts, optimum_digest(to.out))

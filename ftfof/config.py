@@ -374,7 +374,10 @@ class Logs(Strict):
 
 
 class Base(Strict):
-    seed: NonNegativeInt
+    seed: NonNegativeInt  # every random stream: sampling, acquisition noise, split, ...
+    # seeds the chain from train on (initialisation, shuffling, NSGA-II) when set: sweeping it
+    # re-runs train -> optimize -> evaluate on the same data (null: base.seed)
+    search_seed: NonNegativeInt | None = None
 
 
 class Feasibility(Strict):
@@ -438,6 +441,12 @@ class Params(Strict):
             if name not in presets:
                 raise ValueError(f"{key}: {name!r} is not a preset (have {', '.join(presets)})")
         return self
+
+    @property
+    def search_seed(self) -> int:
+        """The seed of the surrogate training and the search (``base.search_seed`` or ``seed``)."""
+        base = self.base
+        return base.seed if base.search_seed is None else base.search_seed
 
     @property
     def selected_robot(self) -> Robot:

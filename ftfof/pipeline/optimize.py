@@ -63,7 +63,7 @@ def prepare(params: Params, models: Path) -> Setup:
     surrogate = load_surrogate(models, params.train.use, {t: w.path for t, w in registered.items()})
     cfg = params.optimize
     problem = TrajectoryProblem(ctx.policy, surrogate, ctx.robot.objectives, ctx.robot.pre_pressure)
-    seed = seed_for(params.base.seed, "optimize")
+    seed = seed_for(params.search_seed, "optimize")
     settings = SearchSettings(
         population=cfg.population,
         generations=cfg.generations,

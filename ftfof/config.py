@@ -365,6 +365,7 @@ class Optimize(Strict):
     recheck_samples: Annotated[int, Field(ge=16)] = 4096  # independent feasibility grid
     rhs_alpha: Fraction = 0.9  # Algorithm 1: initial fraction of each objective's range
     rhs_beta: Annotated[float, Field(gt=0, lt=1)] = 0.9  # Algorithm 1: shrink factor
+    verify_candidates: NonNegativeInt = 10  # RHS candidates re-simulated at most; 0 = trust
 
 
 class Evaluate(Strict):
@@ -399,7 +400,10 @@ class Logs(Strict):
 
 
 class Base(Strict):
-    seed: NonNegativeInt
+    seed: NonNegativeInt  # every random stream: sampling, acquisition noise, split, ...
+    # seeds the chain from train on (initialisation, shuffling, NSGA-II) when set: sweeping it
+    # re-runs train -> optimize -> evaluate on the same data (null: base.seed)
+    search_seed: NonNegativeInt | None = None
 
 
 class Feasibility(Strict):
@@ -476,6 +480,12 @@ class Params(Strict):
                 f" {SHEAR_SAFETY_FACTOR:g}"
             )
         return self
+
+    @property
+    def search_seed(self) -> int:
+        """The seed of the surrogate training and the search (``base.search_seed`` or ``seed``)."""
+        base = self.base
+        return base.seed if base.search_seed is None else base.search_seed
 
     @property
     def selected_robot(self) -> Robot:

@@ -30,7 +30,7 @@ def train_all(params: Params, data: TrainingData) -> Training:
     """Train every target with every loss; seeds differ by target, not by loss."""
     cfg = params.train
     jobs = [
-        {"target": t, "index": i, "kind": k, "seed": seed_for(params.base.seed, "train", i)}
+        {"target": t, "index": i, "kind": k, "seed": seed_for(params.search_seed, "train", i)}
         for i, t in enumerate(TARGETS)
         for k in cfg.losses
     ]

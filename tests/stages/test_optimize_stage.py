@@ -66,6 +66,12 @@ def test_front_and_optimum_are_written(optimized):
         assert optimum["decision"][name] == pytest.approx(chosen[name])
     assert len(optimum["control_points"]) == 16
     assert max(optimum["recheck"]["violation"].values()) <= 0
+    # the simulator had the last word: the chosen row is the last one it checked, and it passed
+    fc = Params.model_validate(data).selected_robot.foot.film_min_bend_radius
+    *refused, accepted = optimum["simulator_check"]
+    assert accepted["ok"] and accepted["row"] == optimum["front_row"]
+    assert accepted["measured"]["min_bend_radius"] >= fc
+    assert all(not v["ok"] and v["reason"] for v in refused)
     assert len(optimum["predicted"]["Fd"]) == len(optimum["predicted"]["t"])
     summary = json.loads((tmp / f"opt_{robot}_optimize.json").read_text())
     assert summary["generations"] == TINY["generations"] and summary["robot"] == robot

@@ -22,11 +22,12 @@ MEASURED = (
 
 def simulator_check(params: Params, ctx: RobotContext) -> SimulatorCheck:
     """A check that simulates a decision row and passes it when the run succeeds and the film's
-    minimum bend radius stays at or above the robot's limit fc."""
+    minimum bend radius stays at or above its safety limit (:class:`ftfof.sim.film.FilmLimit`)."""
+    from ftfof.sim.film import film_limit
     from ftfof.sim.simulate import simulate
 
     on = bench(params, ctx)
-    limit = ctx.robot.foot.film_min_bend_radius
+    limit = film_limit(ctx.robot, params.selected_surface).radius
 
     def check(row: int, X: np.ndarray) -> Verdict:
         result = simulate(on.bezier("verify", row, X))
@@ -38,7 +39,7 @@ def simulator_check(params: Params, ctx: RobotContext) -> SimulatorCheck:
             return Verdict(
                 row,
                 False,
-                f"film bent to {1e3 * bend:.2f} mm, below its {1e3 * limit:.1f} mm limit",
+                f"film bent to {1e3 * bend:.2f} mm, below its {1e3 * limit:.2f} mm limit",
                 measured,
             )
         return Verdict(row, True, "", measured)

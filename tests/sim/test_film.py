@@ -52,6 +52,20 @@ def test_the_clamp_holds_the_last_gripped_element_at_four_points():
     np.testing.assert_allclose(pins, [0.0, 0.0025, 0.0025 + 0.0025 / 3, 0.0025 + 0.005 / 3, 0.005])
 
 
+def test_the_peel_root_radius_follows_the_elastica_and_sets_the_limit_below_fc(params):
+    # M = sqrt(2 EI b G) at the root: R = EI / M
+    ei, b, g = 1.3e-5, 0.02, 55.0
+    assert film.peel_root_radius(ei, b, g) == pytest.approx(ei / np.sqrt(2 * ei * b * g))
+    assert film.peel_root_radius(4 * ei, b, g) == pytest.approx(2 * film.peel_root_radius(ei, b, g))
+    reachable = film.FilmLimit(fc=0.006, peel_root=0.008, fraction=0.9)
+    assert reachable.radius == 0.006 and reachable.fc_reachable
+    beyond = film.FilmLimit(fc=0.006, peel_root=0.002, fraction=0.9)
+    assert beyond.radius == pytest.approx(0.0018) and not beyond.fc_reachable
+    limit = film.film_limit(params.selected_robot, params.selected_surface)
+    assert limit.fc == params.selected_robot.foot.film_min_bend_radius
+    assert limit.radius <= limit.fc
+
+
 @pytest.mark.integration
 def test_min_bend_radius_converges_with_the_node_count(params):
     """< 10 % from N = 40 to 80 on the polynomial, Pf and a low drag; < 10 % from 20 to 40 on Pf
@@ -73,6 +87,10 @@ def test_min_bend_radius_converges_with_the_node_count(params):
     assert np.all(change[0, 1:] < 0.10), radius
     # the polynomial's clamp-edge bend is too gentle at 20 (19 %): acquisition runs at 40
     assert params.acquire.solver.nodes >= 40
+    # a peel bends the film as the elastica says; a low drag folds it well past that
+    limit = film.film_limit(params.selected_robot, params.selected_surface)
+    np.testing.assert_allclose(radius[2, :2], limit.peel_root, rtol=0.10)
+    assert radius[2, 2] < limit.radius < radius[2, :2].min()
     for r in results:  # the channel behind the summary: 0 before the peel and after the release
         k = r.channels["film_curvature"]
         assert 1 / k[r.channels["t"] >= 0].max() == pytest.approx(r.scalars["min_bend_radius"])

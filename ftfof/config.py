@@ -78,7 +78,7 @@ class Foot(Strict):
     droop_height: NonNegativeFloat  # hs, m
     # film safety when fc is below reach: no trajectory may bend the film tighter than this
     # fraction of the radius every steady peel imposes at its root (ftfof.sim.film.FilmLimit)
-    peel_root_fraction: Annotated[float, Field(gt=0, le=1)] = 0.9
+    peel_root_fraction: Annotated[float, Field(gt=0, le=1)] = 0.75
 
 
 class MinDetachment(Strict):

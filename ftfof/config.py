@@ -24,7 +24,8 @@ from pydantic import (
 
 Fraction = Annotated[float, Field(gt=0, le=1)]
 # The allowed names: every module that needs one of these lists reads it here (typing.get_args).
-Objective = Literal["fs1", "fs2", "fs3", "fs4", "fs5", "fs7"]  # fs6 is the bending constraint
+# fs6 is the bending constraint; fsj the body jitter; *_normal the paper's normal-only fs1/fs2
+Objective = Literal["fs1", "fs2", "fs3", "fs4", "fs5", "fs7", "fsj", "fs1_normal", "fs2_normal"]
 Strategy = Literal[Objective, "fs6"]  # every strategy function (FTFOF §V.A)
 Loss = Literal["dilate", "mse"]
 Baseline = Literal["polynomial", "cycloidal", "random_bezier", "eps_bezier"]

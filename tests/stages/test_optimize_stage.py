@@ -66,7 +66,7 @@ def test_front_and_optimum_are_written(optimized):
         assert optimum["decision"][name] == pytest.approx(chosen[name])
     assert len(optimum["control_points"]) == 16
     assert max(optimum["recheck"]["violation"].values()) <= 0
-    assert len(optimum["predicted"]["Fd"]) == len(optimum["predicted"]["t"])
+    assert len(optimum["predicted"]["pull"]) == len(optimum["predicted"]["t"])
     summary = json.loads((tmp / f"opt_{robot}_optimize.json").read_text())
     assert summary["generations"] == TINY["generations"] and summary["robot"] == robot
     csv = (tmp / f"opt_{robot}_convergence.csv").read_text().splitlines()
@@ -118,10 +118,9 @@ def test_mlflow_run_links_the_surrogates_and_logs_convergence(optimized):
     assert run.data.tags["ftfof.surrogate_run"] == train.info.run_id
     assert train.info.run_id in run.data.tags["mlflow.note.content"]
     assert run.data.tags["mlflow.source.name"] == "optimize"
-    for target in ("Fd", "Fp"):  # the versions the search used, resolved by alias
-        version = client.get_model_version_by_alias(f"ftfof-{robot}-{target}-dilate", "champion")
-        expected = f"models:/ftfof-{robot}-{target}-dilate/{version.version}"
-        assert run.data.params[f"model.{target}"] == expected
+    # the version the search used, resolved by alias
+    version = client.get_model_version_by_alias(f"ftfof-{robot}-dilate", "champion")
+    assert run.data.params["model"] == f"models:/ftfof-{robot}-dilate/{version.version}"
 
 
 def test_an_alias_missing_from_the_registry_is_one_clear_error(trained):
@@ -131,7 +130,7 @@ def test_an_alias_missing_from_the_registry_is_one_clear_error(trained):
     data["train"] = {**data["train"], "alias": "nobody"}
     result, out = _optimize(tmp, uri, data, "opt_no_alias")
     assert result.exit_code != 0
-    assert "models:/ftfof-mst_m3f-Fd-dilate@nobody: not in the MLflow registry" in result.output
+    assert "models:/ftfof-mst_m3f-dilate@nobody: not in the MLflow registry" in result.output
     assert not out.exists() and not (tmp / "opt_no_alias_optimize.json").exists()
 
 
@@ -142,7 +141,7 @@ def test_weights_that_differ_from_the_tracked_models_are_refused(trained, tmp_pa
     data = copy.deepcopy(data)
     data["optimize"] = {**data["optimize"], **TINY}
     shutil.copytree(tmp / "models", tmp_path / "models")
-    (tmp_path / "models" / "Fd_dilate.pt").write_bytes(b"not these weights")
+    (tmp_path / "models" / "surrogate_dilate.pt").write_bytes(b"not these weights")
     result, out = _optimize(tmp_path, uri, data, "opt_stale")
     assert result.exit_code != 0
     assert "differs from" in result.output and "re-run `ftfof train`" in result.output

@@ -34,7 +34,10 @@ class Dataset:
 def read_acquisition(path: Path, what: str) -> pa.Table:
     """An acquisition table, with the optional channels it carries (e.g. the film's curvature)."""
     schema = ACQUISITION
-    present = pq.read_schema(path).names if path.exists() else []
+    try:
+        present = pq.read_schema(path).names
+    except (pa.ArrowException, OSError):  # read_table names the problem
+        present = []
     for name in dataset.OPTIONAL_CHANNELS:
         if name in present and name not in schema.names:
             unit = dataset.UNITS.get(name, "")

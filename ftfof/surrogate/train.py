@@ -7,8 +7,10 @@ The criterion is a sum over the targets, each on the samples that supply it (NaN
   a peak are what fs1-fs3 read), divided by N so that it is a per-step error like the MSE of the
   other targets (jitter density, body acceleration, film curvature: maxima and sums of sparse,
   event-locked series, for which a shape-only, shift-tolerant loss has nothing to offer and a
-  soft-DTW of spikes is ill-posed). Each force series gets its own alignment (the series are
-  stacked along the batch, one compiled DILATE call for all of them).
+  soft-DTW of spikes is ill-posed). The force series share one alignment: DILATE runs on them as
+  one multivariate series (D[i, j] = the squared distance of the force vectors), since they are
+  the same foot's forces on one time line, and one alignment costs a third of three. A sample
+  that lacks one of them is left out of this term.
 
 Deterministic on CPU for a seed (seeded init and shuffling, deterministic algorithms, a fixed
 thread count); uses a GPU when one is present (the DILATE kernel itself runs on the CPU).
@@ -74,13 +76,12 @@ def loss_fn(
 
     def criterion(pred: torch.Tensor, target: torch.Tensor) -> torch.Tensor:
         B, N, _ = pred.shape
-        p = pred[..., shaped].permute(0, 2, 1).reshape(-1, N, 1)
-        y = target[..., shaped].permute(0, 2, 1).reshape(-1, N, 1)
+        p, y = pred[..., shaped], target[..., shaped]
         rows = torch.isfinite(y).all(dim=(1, 2))
         loss = masked_mse(pred[..., plain], target[..., plain]).sum()
         if rows.any():
             value = dilate_loss(p[rows], y[rows], settings.alpha, settings.gamma)[0]
-            loss = loss + value * (int(rows.sum()) / B) / N  # a sum over the force series
+            loss = loss + value * (int(rows.sum()) / B) / N  # per step, like the MSE terms
         return loss
 
     return criterion

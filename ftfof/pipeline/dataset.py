@@ -80,6 +80,12 @@ def build(params: Params, acquisition: Path, imported: Path) -> Dataset:
         "baseline": splits.count("baseline"),
         "imported": built.column("source").to_pylist().count("imported"),
         "seq_len": cfg.seq_len,
+        "targets_supplied": {  # samples whose record supplies each target (the rest are masked)
+            name: int(
+                sum(np.isfinite(v).all() for v in built.column(name).to_numpy(zero_copy_only=False))
+            )
+            for name in dataset.TARGETS
+        },
         "peak_detachment_mean": float(np.nanmean(built.column("peak_detachment").to_numpy())),
         "normalization": meta["normalization"],
     }

@@ -54,6 +54,7 @@ def test_the_dataset_has_the_documented_schema_units_and_metadata(built):
     assert meta["robot"] == "mst_m3f" and meta["exudyn"] == "1.13.6"
     summary = json.loads((built / "ds.json").read_text())
     assert summary["excluded_failed"] == 2 and summary["baseline"] == 2
+    assert summary["targets_supplied"]["curvature"] == summary["samples"]  # fakes carry the film
     assert (built / "ds.png").stat().st_size > 10_000
 
 

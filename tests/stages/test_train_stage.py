@@ -17,7 +17,7 @@ def test_models_load_with_weights_only(trained):
         state = torch.load(tmp / "models" / f"surrogate_{loss}.pt", weights_only=True)
         assert "gru.weight_ih_l0" in state and state["head.weight"].shape[0] == len(TARGETS)
     config = json.loads((tmp / "models" / "config.json").read_text())
-    assert config["use"] == "dilate" and config["seq_len"] == 24
+    assert config["use"] == "mse" and config["seq_len"] == 24  # params.yaml: train.use
     assert config["trained"] == list(TARGETS)  # the fake acquisition carries the film channel
     surrogate = load_surrogate(tmp / "models")
     assert surrogate.seq_len == 24 and surrogate.trained == TARGETS

@@ -24,7 +24,8 @@ from pydantic import (
 
 Fraction = Annotated[float, Field(gt=0, le=1)]
 # The allowed names: every module that needs one of these lists reads it here (typing.get_args).
-Objective = Literal["fs1", "fs2", "fs3", "fs4", "fs5", "fs7"]  # fs6 is the bending constraint
+# fs6 is the bending constraint; fsj the body jitter; *_normal the paper's normal-only fs1/fs2
+Objective = Literal["fs1", "fs2", "fs3", "fs4", "fs5", "fs7", "fsj", "fs1_normal", "fs2_normal"]
 Strategy = Literal[Objective, "fs6"]  # every strategy function (FTFOF §V.A)
 Loss = Literal["dilate", "mse"]
 Baseline = Literal["polynomial", "cycloidal", "random_bezier", "eps_bezier"]
@@ -332,7 +333,7 @@ class Dataset(Strict):
 
 
 class Train(Strict):
-    """GRU surrogates trained with DILATE and, for comparison, MSE (FTFOF §IV.B; README, train)."""
+    """Multi-output GRU surrogates, trained with DILATE and/or MSE (FTFOF §IV.B; README, train)."""
 
     hidden: PositiveInt = 64
     layers: PositiveInt = 2
@@ -345,11 +346,17 @@ class Train(Strict):
     alpha: Annotated[float, Field(ge=0, le=1)] = 0.5  # DILATE shape/temporal balance
     gamma: PositiveFloat = 0.01  # soft-DTW smoothing
     losses: Annotated[list[Loss], Field(min_length=1)] = ["dilate", "mse"]
-    use: Loss = "dilate"  # the models the optimiser and report use
-    # MLflow registry alias train sets on the `use` pair; optimize loads models:/...@alias
+    use: Loss = "dilate"  # the model the optimiser and report use
+    # MLflow registry alias train sets on the `use` model; optimize loads models:/...@alias
     alias: Annotated[str, Field(pattern=r"^[A-Za-z][A-Za-z0-9_-]*$")] = "champion"
     threads: NonNegativeInt = 0  # torch threads per model, 0 = all cores / models
     parallel: bool = True  # train the models side by side, one process each
+
+    @model_validator(mode="after")
+    def _use_is_trained(self) -> Train:
+        if self.use not in self.losses:
+            raise ValueError(f"use {self.use!r} must be one of losses {self.losses}")
+        return self
 
 
 class Optimize(Strict):

@@ -1,12 +1,14 @@
-"""The seven strategy functions fs1..fs7 (FTFOF §V.A), vectorised over a population.
+"""The strategy functions fs1..fs7 (FTFOF §V.A) and body jitter fsj, vectorised over a population.
 
-Every function takes (pop, n) or (pop, n, d) arrays and returns (pop,). fs1, fs2, fs3 and fs7 read
-force series (predicted or simulated); fs4, fs5 and fs6 read the sampled trajectory.
+Every function takes (pop, n) or (pop, n, d) arrays and returns (pop,). fs1, fs2, fs3, fs7 and
+fsj read the surrogates' target series (predicted or simulated, defined in
+:mod:`ftfof.data.targets`, each on its own window); fs4, fs5 and fs6 read the sampled trajectory.
+fs1/fs2 read the resultant pull; fs1_normal/fs2_normal the tension alone, as the paper did.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -24,7 +26,7 @@ JITTER_SIGMAS = 3.0  # fs7: m, the z-score threshold
 
 
 def fs1_max_detachment(Fd: Array) -> Array:
-    """Peak detachment force (eq. 10)."""
+    """Peak detachment force (eq. 10), of the pull or of its normal part."""
     return np.max(Fd, axis=-1)
 
 
@@ -46,7 +48,7 @@ def fs2_mean_detachment(Fd: Array) -> Array:
 
 
 def fs3_pre_pressure_error(Fp: Array, target: float) -> Array:
-    """Distance of the peak pre-pressure from the optimal pre-pressure a (eq. 12)."""
+    """Distance of the peak (landing) pre-pressure from the optimal pre-pressure a (eq. 12)."""
     return np.abs(np.max(Fp, axis=-1) - target)
 
 
@@ -111,29 +113,44 @@ def _fs6_kernel(pos: Array, min_step: float, out: Array) -> None:  # pragma: no 
         out[p] = total
 
 
-def fs7_jitter(Fd: Array, dt: float, m: float = JITTER_SIGMAS) -> Array:
-    """Sum of how far the z-scores of Fd'' exceed m standard deviations (eq. 16).
+def jitter_exceedance(F: Array, dt: float, m: float = JITTER_SIGMAS) -> Array:
+    """Per sample, how far the z-score of F'' exceeds m standard deviations (eq. 16's terms).
 
     A flat second derivative (sigma = 0) has no outliers and scores 0.
     """
-    acc = np.gradient(np.gradient(np.asarray(Fd, dtype=float), dt, axis=-1), dt, axis=-1)
+    acc = np.gradient(np.gradient(np.asarray(F, dtype=float), dt, axis=-1), dt, axis=-1)
     mu = acc.mean(axis=-1, keepdims=True)
     sigma = acc.std(axis=-1, keepdims=True)
     with np.errstate(invalid="ignore", divide="ignore"):
         z = np.where(sigma > 0, (acc - mu) / sigma, 0.0)
-    return np.sum(np.maximum(np.abs(z) - m, 0.0), axis=-1)
+    return np.maximum(np.abs(z) - m, 0.0)
+
+
+def fs7_jitter(density: Array) -> Array:
+    """eq. 16: the sum of the exceedances, given per time bin (the ``jitter`` target)."""
+    return np.sum(density, axis=-1)
+
+
+def fsj_body_jitter(body_acc: Array) -> Array:
+    """Peak body acceleration during detachment (the IMU jitter of FTFOF Table I)."""
+    return np.max(body_acc, axis=-1)
+
+
+def film_safety(curvature: Array, min_bend_radius: float) -> Array:
+    """fc * max curvature - 1: <= 0 when the film never bends tighter than fc."""
+    return min_bend_radius * np.max(curvature, axis=-1) - 1.0
 
 
 @dataclass(frozen=True)
 class Evidence:
     """What the strategy functions read for one population.
 
-    Forces (predicted or simulated) on one uniform time base of step ``dt``; the foot path sampled
-    on its own grid ``t`` over [0, T3]; the adhesion segment [T2, T3]; the pre-pressure a.
+    ``series``: target name (:data:`ftfof.data.targets.TARGETS`) -> (pop, n) series, predicted or
+    simulated, on one uniform time base of step ``dt``; the foot path sampled on its own grid
+    ``t`` over [0, T3]; the adhesion segment [T2, T3]; the pre-pressure a.
     """
 
-    Fd: Array
-    Fp: Array
+    series: Mapping[str, Array]
     dt: float
     position: Array
     velocity: Array
@@ -142,16 +159,24 @@ class Evidence:
     pre_pressure: float
     min_step: float = 1e-9
 
+    def __getitem__(self, name: str) -> Array:
+        if name not in self.series:
+            raise KeyError(f"no {name!r} series in the evidence (have {sorted(self.series)})")
+        return self.series[name]
+
 
 # One entry per name of config.Strategy (a test holds them equal).
 STRATEGIES: dict[Strategy, Callable[[Evidence], Array]] = {
-    "fs1": lambda e: fs1_max_detachment(e.Fd),
-    "fs2": lambda e: fs2_mean_detachment(e.Fd),
-    "fs3": lambda e: fs3_pre_pressure_error(e.Fp, e.pre_pressure),
+    "fs1": lambda e: fs1_max_detachment(e["pull"]),
+    "fs1_normal": lambda e: fs1_max_detachment(e["Fd"]),
+    "fs2": lambda e: fs2_mean_detachment(e["pull"]),
+    "fs2_normal": lambda e: fs2_mean_detachment(e["Fd"]),
+    "fs3": lambda e: fs3_pre_pressure_error(e["Fp"], e.pre_pressure),
     "fs4": lambda e: fs4_mean_height(e.position),
     "fs5": lambda e: fs5_adhesion_path_length(e.velocity, e.t, *e.adhesion),
     "fs6": lambda e: fs6_bending(e.position, e.min_step),
-    "fs7": lambda e: fs7_jitter(e.Fd, e.dt),
+    "fs7": lambda e: fs7_jitter(e["jitter"]),
+    "fsj": lambda e: fsj_body_jitter(e["body_acc"]),
 }
 
 

@@ -1,4 +1,4 @@
-"""Stage `train`: GRU surrogates (Fd, Fp) with DILATE and MSE, tracked in MLflow -> data/models/."""
+"""Stage `train`: multi-output GRU surrogates, DILATE and MSE, tracked in MLflow -> data/models/."""
 
 from __future__ import annotations
 
@@ -44,10 +44,14 @@ def command(
     save_figure(pred_fig, pred_plot)
     track(params, run, data, (loss_plot, pred_plot), out, dataset_dir)
     for r in run.results:
-        m = r["metrics"]
+        h = r["history"]
         console.print(
-            f"{r['target']} {r['kind']:6s}: peak error median {m['peak_error_median']:.3f} N, "
-            f"p90 {m['peak_error_p90']:.3f} N, DTW {m['dtw']:.3f}, MSE {m['mse']:.4f} "
-            f"({len(r['history']['train'])} epochs, {r['seconds']:.0f} s)"
+            f"{r['kind']}: {len(h['train'])} epochs (best {h['best_epoch']}, cap "
+            f"{params.train.epochs}), {r['seconds']:.0f} s"
         )
+        for target, m in r["metrics"].items():
+            console.print(
+                f"  {target:9s} MSE {m['mse']:.4g}, DTW {m['dtw']:.4g}, "
+                f"peak error median {m['peak_error_median']:.3g}, p90 {m['peak_error_p90']:.3g}"
+            )
     console.print(f"trained {len(run.results)} models in {run.wall:.0f} s -> {out}")

@@ -86,7 +86,13 @@ def trained(tmp_path_factory, raw_params):
     tmp = tmp_path_factory.mktemp("train")
     data = dict(raw_params)
     data["dataset"] = {**raw_params["dataset"], "seq_len": 24}
-    data["train"] = {**raw_params["train"], "hidden": 6, "epochs": 2, "batch": 16}
+    data["train"] = {  # both losses, so the DILATE path and the comparison stay covered
+        **raw_params["train"],
+        "hidden": 6,
+        "epochs": 2,
+        "batch": 16,
+        "losses": ["dilate", "mse"],
+    }
     params = write_params(tmp / "params.yaml", data)
     (tmp / "acq").mkdir()
     from tests.data.fake import fake_acquisition

@@ -34,12 +34,12 @@ def _registry_is_served(base: str, tmp_path: Path) -> None:
     """The registered models with their versions and the alias, and the model page rendered."""
     models = _call(f"{base}/api/2.0/mlflow/registered-models/search?max_results=100")
     names = {m["name"] for m in models["registered_models"]}
-    assert {f"ftfof-mst_m3f-{t}-{k}" for t in ("Fd", "Fp") for k in ("dilate", "mse")} <= names
-    champion = _call(
-        f"{base}/api/2.0/mlflow/registered-models/alias?name=ftfof-mst_m3f-Fd-dilate&alias=champion"
+    assert {f"ftfof-mst_m3f-{k}" for k in ("dilate", "mse")} <= names
+    champion = _call(  # params.yaml: train.use = mse
+        f"{base}/api/2.0/mlflow/registered-models/alias?name=ftfof-mst_m3f-mse&alias=champion"
     )["model_version"]
     run = _call(f"{base}/api/2.0/mlflow/runs/get?run_id={champion['run_id']}")["run"]
-    assert {p["key"]: p["value"] for p in run["data"]["params"]}["loss"] == "dilate"
+    assert {p["key"]: p["value"] for p in run["data"]["params"]}["loss"] == "mse"
     (entry,) = run["inputs"]["dataset_inputs"]
     assert entry["dataset"]["source"].endswith('"data/dataset/samples.parquet"}')
     chromium = shutil.which("chromium") or "/usr/bin/chromium"
@@ -50,7 +50,7 @@ def _registry_is_served(base: str, tmp_path: Path) -> None:
             "--no-first-run", "--disable-background-networking", "--disable-component-update",
             "--disable-sync", f"--user-data-dir={tmp_path / 'profile'}", "--window-size=1280,900",
             "--virtual-time-budget=15000", f"--screenshot={shot}",
-            f"{base}/#/models/ftfof-mst_m3f-Fd-dilate",
+            f"{base}/#/models/ftfof-mst_m3f-mse",
         ],
         check=True, capture_output=True, timeout=180,
     )  # fmt: skip
@@ -106,14 +106,8 @@ def test_mlflow_ui_serves_the_runs_and_a_metric_history(trained, tmp_path):
         exp_id = experiment["experiment"]["experiment_id"]
         runs = _call(f"{base}/api/2.0/mlflow/runs/search", {"experiment_ids": [exp_id]})["runs"]
         names = sorted(r["info"]["run_name"] for r in runs)  # other stage tests share the store
-        assert [n for n in names if n not in ("optimize", "evaluate")] == [
-            "Fd-dilate",
-            "Fd-mse",
-            "Fp-dilate",
-            "Fp-mse",
-            "train",
-        ]
-        child = next(r for r in runs if r["info"]["run_name"] == "Fd-dilate")
+        assert [n for n in names if n not in ("optimize", "evaluate")] == ["dilate", "mse", "train"]
+        child = next(r for r in runs if r["info"]["run_name"] == "dilate")
         history = _call(
             f"{base}/api/2.0/mlflow/metrics/get-history?run_id={child['info']['run_id']}&metric_key=validation_loss"
         )["metrics"]

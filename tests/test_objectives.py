@@ -1,4 +1,4 @@
-"""fs1..fs7 on hand-made series (FTFOF §V.A)."""
+"""fs1..fs7 and fsj on hand-made series (FTFOF §V.A)."""
 
 from typing import get_args
 
@@ -9,6 +9,7 @@ from ftfof.config import Strategy
 from ftfof.objectives import (
     STRATEGIES,
     Evidence,
+    film_safety,
     fs1_max_detachment,
     fs2_mean_detachment,
     fs3_pre_pressure_error,
@@ -16,6 +17,8 @@ from ftfof.objectives import (
     fs5_adhesion_path_length,
     fs6_bending,
     fs7_jitter,
+    fsj_body_jitter,
+    jitter_exceedance,
     strategy_values,
 )
 
@@ -82,25 +85,33 @@ def test_fs6_is_vectorised_over_the_population():
     assert out[0] == 0 and out[1] > 0
 
 
-def test_fs7_is_zero_for_a_smooth_force_and_positive_for_a_snap():
+def test_fs7_exceedance_is_zero_for_a_smooth_force_and_positive_for_a_snap():
     t = np.linspace(0, 1, 500)
     smooth = np.sin(np.pi * t)[None]
     snap = np.where(t < 0.5, t, 0.0)[None]  # force released at once
-    assert fs7_jitter(smooth, t[1] - t[0])[0] == pytest.approx(0.0, abs=1e-9)
-    assert fs7_jitter(snap, t[1] - t[0])[0] > 1.0
+    assert fs7_jitter(jitter_exceedance(smooth, t[1] - t[0]))[0] == pytest.approx(0.0, abs=1e-9)
+    assert fs7_jitter(jitter_exceedance(snap, t[1] - t[0]))[0] > 1.0
 
 
 def test_fs7_of_a_constant_series_is_zero():
-    assert fs7_jitter(np.ones((1, 50)), 0.01)[0] == 0.0
+    assert fs7_jitter(jitter_exceedance(np.ones((1, 50)), 0.01))[0] == 0.0
+
+
+def test_fsj_is_the_peak_body_acceleration_and_film_safety_the_bend_margin():
+    acc = np.array([[1.0, 9.0, 2.0], [3.0, 3.0, 3.0]])
+    np.testing.assert_array_equal(fsj_body_jitter(acc), [9.0, 3.0])
+    curvature = np.array([[50.0, 200.0], [100.0, 150.0]])  # 1/m: radii 5 mm, 6.7 mm
+    g = film_safety(curvature, 0.006)
+    assert g[0] == pytest.approx(0.2) and g[1] < 0
 
 
 def _evidence(pop: int = 3) -> Evidence:
     rng = np.random.default_rng(0)
     t = np.linspace(0.0, 1.0, 51)
     position = np.cumsum(rng.random((pop, t.size, 2)), axis=1) * 1e-3
+    series = {k: rng.random((pop, 40)) for k in ("pull", "Fd", "jitter", "body_acc")}
     return Evidence(
-        Fd=rng.random((pop, 40)),
-        Fp=rng.random((pop, 40)) * 6,
+        series={**series, "Fp": rng.random((pop, 40)) * 6},
         dt=0.01,
         position=position,
         velocity=np.gradient(position, t, axis=1),
@@ -112,13 +123,21 @@ def _evidence(pop: int = 3) -> Evidence:
 
 def test_strategy_values_stack_the_named_functions_in_the_given_order():
     e = _evidence()
-    values = strategy_values(["fs3", "fs1", "fs7", "fs5"], e)
-    assert values.shape == (3, 4)
-    np.testing.assert_array_equal(values[:, 0], fs3_pre_pressure_error(e.Fp, 5.0))
-    np.testing.assert_array_equal(values[:, 1], fs1_max_detachment(e.Fd))
-    np.testing.assert_array_equal(values[:, 2], fs7_jitter(e.Fd, 0.01))
+    values = strategy_values(["fs3", "fs1", "fs7", "fs5", "fsj", "fs1_normal"], e)
+    assert values.shape == (3, 6)
+    np.testing.assert_array_equal(values[:, 0], fs3_pre_pressure_error(e["Fp"], 5.0))
+    np.testing.assert_array_equal(values[:, 1], fs1_max_detachment(e["pull"]))
+    np.testing.assert_array_equal(values[:, 2], e["jitter"].sum(axis=1))
     np.testing.assert_array_equal(values[:, 3], fs5_adhesion_path_length(e.velocity, e.t, 0.6, 1.0))
-    assert set(STRATEGIES) == {f"fs{i}" for i in range(1, 8)}
+    np.testing.assert_array_equal(values[:, 4], e["body_acc"].max(axis=1))
+    np.testing.assert_array_equal(values[:, 5], fs1_max_detachment(e["Fd"]))
+    assert {f"fs{i}" for i in range(1, 8)} | {"fsj"} <= set(STRATEGIES)
+
+
+def test_a_strategy_without_its_series_is_named():
+    e = _evidence()
+    with pytest.raises(KeyError, match="curvature"):
+        e["curvature"]
 
 
 def test_unknown_strategy_is_named():

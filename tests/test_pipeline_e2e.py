@@ -47,9 +47,7 @@ def test_every_stage_wrote_its_outputs(repo):
     acquisition = pq.read_table(repo / "data/acquisition/samples.parquet")
     assert acquisition.num_rows == 44  # 40 sampled + 4 baselines
     assert pq.read_table(repo / "data/dataset/samples.parquet").num_rows >= 42
-    assert {"Fd_dilate.pt", "Fp_dilate.pt", "config.json"} <= {
-        p.name for p in (repo / "data/models").iterdir()
-    }
+    assert {"surrogate_mse.pt", "config.json"} <= {p.name for p in (repo / "data/models").iterdir()}
     optimum = json.loads((repo / "data/optimize/optimum.json").read_text())
     assert max(optimum["recheck"]["violation"].values()) <= 0
     metrics = json.loads((repo / "reports/metrics.json").read_text())

@@ -3,15 +3,16 @@
 One row per sample with fixed-length list columns. Each sample is cut to its trajectory time
 base [0, T3 + hold] and resampled to ``seq_len`` bins: the commanded foot x, z at the bin centres
 and their velocities (differentiated from the commanded positions at the acquisition rate), and
-the targets Fd, Fp as the *maximum* in each bin, so the peaks the objectives read (fs1, fs3) are
-not smoothed away by the downsampling. Baselines stay in the table with split ``baseline`` and
-out of training; the rest is split 85/15 by sample with a seeded permutation. Normalisation
-statistics come from the training split only.
+the targets of :mod:`ftfof.data.targets` (each on its window, binned so that the objectives read
+the same values from them as from the full-rate record; NaN where a record cannot supply one).
+Baselines stay in the table with split ``baseline`` and out of training; the rest is split 85/15
+by sample with a seeded permutation. Normalisation statistics come from the training split only.
 """
 
 from __future__ import annotations
 
 import json
+import warnings
 from dataclasses import asdict, dataclass
 
 import numpy as np
@@ -19,14 +20,25 @@ import pyarrow as pa
 from numpy.typing import NDArray
 
 from ftfof import config
+from ftfof.data import targets as tg
 from ftfof.data.schema import field
 from ftfof.errors import DataError
 from ftfof.trajectory.bezier import DECISION_NAMES
 
 Array = NDArray[np.float64]
 INPUTS = ("x", "z", "vx", "vz")
-TARGETS = ("Fd", "Fp")
-UNITS = {"x": "m", "z": "m", "vx": "m/s", "vz": "m/s", "Fd": "N", "Fp": "N", "t": "s"}
+TARGETS = tg.TARGETS
+UNITS = {
+    "x": "m",
+    "z": "m",
+    "vx": "m/s",
+    "vz": "m/s",
+    "t": "s",
+    "film_curvature": "1/m",
+    **tg.UNITS,
+}
+CHANNELS = ("t", "x_cmd", "z_cmd", "Fx_pad", "Fz_pad", "body_acc", "bonds", "switch")
+OPTIONAL_CHANNELS = ("film_curvature",)  # absent from older acquisitions: its target is NaN
 METADATA_KEY = b"ftfof"
 
 
@@ -61,14 +73,17 @@ class Normalization:
 
     input_mean: list[float]
     input_scale: list[float]
-    target_scale: list[float]  # forces are only scaled (they are >= 0 and start at 0)
+    target_scale: list[float]  # targets are only scaled (they are >= 0 and 0 off their windows)
 
     @classmethod
     def fit(cls, inputs: Array, targets: Array) -> Normalization:
-        """``inputs`` (n, seq, 4), ``targets`` (n, seq, 2) of the training split."""
+        """``inputs`` (n, seq, 4), ``targets`` (n, seq, K) of the training split (NaN = missing);
+        each target's scale is its RMS over the samples that supply it."""
         mean = inputs.mean(axis=(0, 1))
         scale = inputs.std(axis=(0, 1))
-        tscale = np.sqrt(np.mean(targets**2, axis=(0, 1)))
+        with warnings.catch_warnings():  # a target no training sample supplies: all NaN
+            warnings.simplefilter("ignore", RuntimeWarning)
+            tscale = np.sqrt(np.nanmean(targets**2, axis=(0, 1)))
         return cls(
             mean.tolist(),
             np.where(scale > 0, scale, 1.0).tolist(),
@@ -83,31 +98,10 @@ class Normalization:
         return cls(**json.loads(text))
 
 
-def time_base(T3: float, hold: float, seq_len: int) -> Array:
-    """Bin centres of ``seq_len`` equal bins over [0, T3 + hold]."""
-    edges = np.linspace(0.0, T3 + hold, seq_len + 1)
-    return 0.5 * (edges[:-1] + edges[1:])
-
-
-def bin_max(t: Array, values: Array, T3: float, hold: float, seq_len: int) -> Array:
-    """Maximum of ``values`` in each bin of [0, T3 + hold]; empty bins take the interpolation."""
-    edges = np.linspace(0.0, T3 + hold, seq_len + 1)
-    inside = (t >= edges[0]) & (t <= edges[-1])
-    idx = np.clip(np.searchsorted(edges, t[inside], side="right") - 1, 0, seq_len - 1)
-    out = np.full(seq_len, -np.inf)
-    np.maximum.at(out, idx, values[inside])
-    empty = ~np.isfinite(out)
-    if empty.any():
-        centres = 0.5 * (edges[:-1] + edges[1:])
-        out[empty] = np.interp(centres[empty], t, values)
-    return out
-
-
-def resample(
-    t: Array, x: Array, z: Array, fd: Array, fp: Array, T3: float, hold: float, seq_len: int
-) -> dict[str, Array]:
-    """One sample's sequences; ``t`` is time from the trajectory start (monotonic)."""
-    grid = time_base(T3, hold, seq_len)
+def resample(channels: dict[str, Array], T3: float, hold: float, seq_len: int) -> dict[str, Array]:
+    """One sample's sequences; ``channels["t"]`` is time from the trajectory start."""
+    t, x, z = channels["t"], channels["x_cmd"], channels["z_cmd"]
+    grid = tg.time_base(T3, hold, seq_len)
     vx, vz = np.gradient(x, t), np.gradient(z, t)
     return {
         "t": grid,
@@ -115,8 +109,7 @@ def resample(
         "z": np.interp(grid, t, z),
         "vx": np.interp(grid, t, vx),
         "vz": np.interp(grid, t, vz),
-        "Fd": bin_max(t, fd, T3, hold, seq_len),
-        "Fp": bin_max(t, fp, T3, hold, seq_len),
+        **tg.binned(channels, T3, hold, seq_len),
     }
 
 
@@ -147,23 +140,16 @@ def build(
         "peak_body_acc",
     ]
     cols = ok.select(scalar_names).to_pydict()
-    series = {c: list_column(ok, c) for c in ("t", "x_cmd", "z_cmd", "Fd", "Fp")}
+    names = CHANNELS + tuple(c for c in OPTIONAL_CHANNELS if c in ok.column_names)
+    series = {c: list_column(ok, c) for c in names}
     n = ok.num_rows
     seqs = {name: np.empty((n, settings.seq_len)) for name in ("t", *INPUTS, *TARGETS)}
     for i in range(n):  # once per dataset build, not a hot path
         t = series["t"][i]
         if t.size < 2 or np.any(np.diff(t) <= 0):
             raise DataError(cols["key"][i], "series time is not strictly increasing")
-        s = resample(
-            t,
-            series["x_cmd"][i],
-            series["z_cmd"][i],
-            series["Fd"][i],
-            series["Fp"][i],
-            cols["T3"][i],
-            settings.hold,
-            settings.seq_len,
-        )
+        channels = {c: series[c][i] for c in names}
+        s = resample(channels, cols["T3"][i], settings.hold, settings.seq_len)
         for name, values in s.items():
             seqs[name][i] = values
     sources = cols["source"]
@@ -205,7 +191,7 @@ def list_column(table: pa.Table, name: str) -> list[Array]:
 
 
 def arrays(table: pa.Table, split_name: str) -> tuple[Array, Array]:
-    """(inputs (n, seq, 4), targets (n, seq, 2)) of one split, float32."""
+    """(inputs (n, seq, 4), targets (n, seq, K), NaN = not supplied) of one split, float32."""
     rows = table.filter(pa.compute.equal(table.column("split"), split_name))
 
     def stack(names: tuple[str, ...]) -> Array:

@@ -1,32 +1,23 @@
 """How well the surrogates' objectives predict the simulator's, over the re-simulated front.
 
-The simulated forces are binned onto the surrogates' time base exactly as the dataset bins its
-targets (maximum per bin), so predicted and simulated objectives measure the same thing.
+The simulated channels become the surrogate's targets exactly as the dataset makes them
+(:func:`ftfof.data.targets.binned`), so predicted and simulated objectives measure the same thing.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
 from scipy.stats import spearmanr
 
-from ftfof.data.dataset import bin_max
+from ftfof.data import targets
 from ftfof.objectives import Evidence, strategy_values
 from ftfof.trajectory.policy import ConstraintPolicy
 
 Array = NDArray[np.float64]
-
-
-@dataclass(frozen=True)
-class SimulatedForces:
-    """One simulation's sensor series, time from the trajectory start."""
-
-    t: Array
-    Fd: Array
-    Fp: Array
 
 
 @dataclass(frozen=True)
@@ -50,20 +41,19 @@ def simulated_objectives(
     names: Sequence[str],
     policy: ConstraintPolicy,
     X: Array,
-    forces: Sequence[SimulatedForces],
+    records: Sequence[Mapping[str, Array]],
     force_t: Array,
     hold: float,
     pre_pressure: float,
 ) -> Array:
-    """(n, len(names)) objectives of the decision rows ``X`` from their simulated forces."""
+    """(n, len(names)) objectives of the decision rows ``X`` from their simulated channels
+    (an acquisition's full-rate series, time from the trajectory start)."""
     T3 = policy.timing.T3
-    n = len(force_t)
-    Fd = np.stack([bin_max(f.t, f.Fd, T3, hold, n) for f in forces])
-    Fp = np.stack([bin_max(f.t, f.Fp, T3, hold, n) for f in forces])
+    binned = [targets.binned(r, T3, hold, len(force_t)) for r in records]
+    series = {k: np.stack([b[k] for b in binned]) for k in targets.TARGETS}
     path = policy.sample(np.atleast_2d(X))
     evidence = Evidence(
-        Fd=Fd,
-        Fp=Fp,
+        series=series,
         dt=float(force_t[1] - force_t[0]),
         position=path.position,
         velocity=path.velocity,

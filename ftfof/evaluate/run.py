@@ -14,9 +14,10 @@ import numpy as np
 import pandas as pd
 
 from ftfof.config import Params
+from ftfof.data.dataset import CHANNELS, OPTIONAL_CHANNELS
 from ftfof.errors import SimulationError
 from ftfof.evaluate.export import ControllerTrajectory, ExportRateError, controller_trajectory
-from ftfof.evaluate.fidelity import Fidelity, SimulatedForces, fidelity, simulated_objectives
+from ftfof.evaluate.fidelity import Fidelity, fidelity, simulated_objectives
 from ftfof.evaluate.table import COLUMNS, PAPER_TABLE_I, PEAKS, TableRow, table_one
 from ftfof.kinematics.legs import build_leg
 from ftfof.robot import RobotContext
@@ -92,8 +93,10 @@ def table_rows(df: pd.DataFrame, reference: str) -> list[TableRow]:
     return table_one(peaks, reference, COLUMNS)
 
 
-def forces(row: pd.Series) -> SimulatedForces:
-    return SimulatedForces(*(np.asarray(row[c], dtype=float) for c in ("t", "Fd", "Fp")))
+def channels(row: pd.Series) -> dict[str, np.ndarray]:
+    """The full-rate channels the surrogate's targets are made of, as float arrays."""
+    names = [*CHANNELS, *(c for c in OPTIONAL_CHANNELS if c in row.index)]
+    return {c: np.asarray(row[c], dtype=float) for c in names}
 
 
 def fidelity_of(
@@ -109,7 +112,7 @@ def fidelity_of(
         names,
         ctx.policy,
         X,
-        [forces(r) for _, r in sims.iterrows()],
+        [channels(r) for _, r in sims.iterrows()],
         surrogate.time_base(ctx.policy.timing.T3),
         surrogate.hold,
         ctx.robot.pre_pressure,

@@ -1,14 +1,17 @@
 """The trajectory search posed to pymoo: free control-point coordinates -> objectives, constraints.
 
-One call evaluates a whole population: the trajectories are sampled twice (on the surrogates'
-time base and on the policy's check grid), both surrogates run once over the population, and the
-strategy functions and constraint rules are vectorised over it. Nothing loops per individual.
+One call evaluates a whole population: the trajectories are sampled twice (on the surrogate's
+time base and on the policy's check grid), the multi-output surrogate runs once over the
+population, and the strategy functions and constraint rules are vectorised over it. Nothing loops
+per individual.
 
 Decision variables are the policy's free variables (ties reparameterised away) with its box;
 objectives are the robot's priority list; the inequality constraints are the policy's rules that
 the box does not already enforce (relational, shape, sampled position/velocity limits, fs6,
 md_path, the minimum path radius and the no-cusp rule), divided by a unit scale per kind so that
-pymoo's summed violation compares like with like.
+pymoo's summed violation compares like with like, and film safety on the predicted curvature
+(limit * max curvature - 1, dimensionless; the limit is ``ftfof.sim.film.FilmLimit.radius``)
+when the surrogate was trained on the film channel.
 """
 
 from __future__ import annotations
@@ -22,7 +25,7 @@ from numpy.typing import NDArray
 from pymoo.core.problem import Problem
 from threadpoolctl import ThreadpoolController
 
-from ftfof.objectives import Evidence, strategy_values
+from ftfof.objectives import Evidence, film_safety, strategy_values
 from ftfof.surrogate.predict import Surrogate
 from ftfof.trajectory.policy import Constraint, ConstraintPolicy, FeasibilityReport
 
@@ -36,9 +39,9 @@ class PopulationEvaluation:
     X: Array  # (pop, 12) full decision vectors
     F: Array  # (pop, n_obj) in priority order
     violations: FeasibilityReport  # the non-box rules, in their units (> 0 violated)
-    Fd: Array  # (pop, seq_len) predicted detachment force, N
-    Fp: Array  # (pop, seq_len) predicted pre-pressure, N
-    t: Array  # the surrogates' time base
+    series: dict[str, Array]  # target -> (pop, seq_len) predicted series, in its unit
+    film: Array | None  # (pop,) predicted film safety limit * max curvature - 1 (> 0 violated)
+    t: Array  # the surrogate's time base
 
 
 class TrajectoryProblem(Problem):
@@ -50,18 +53,21 @@ class TrajectoryProblem(Problem):
         surrogate: Surrogate,
         objectives: Sequence[str],
         pre_pressure: float,
+        film_limit: float,  # m, the film safety limit (ftfof.sim.film.FilmLimit.radius)
     ):
         self.policy = policy
         self.surrogate = surrogate
         self.objectives = tuple(objectives)
         self.pre_pressure = pre_pressure
+        self.film_limit = film_limit
+        self.film_constrained = "curvature" in surrogate.trained
         self.rules: tuple[Constraint, ...] = tuple(c for c in policy.constraints if not c.box)
         self.scales = np.array([_unit_scale(c.kind, policy) for c in self.rules])
         self.force_t = surrogate.time_base(policy.timing.T3)
         super().__init__(
             n_var=policy.n_free,
             n_obj=len(self.objectives),
-            n_ieq_constr=len(self.rules),
+            n_ieq_constr=len(self.rules) + int(self.film_constrained),
             xl=policy.lower,
             xu=policy.upper,
         )
@@ -77,11 +83,10 @@ class TrajectoryProblem(Problem):
         X = self.policy.expand(free)
         path = self.policy.sample(X)
         on_base = self.policy.sample(X, self.force_t)
-        Fd, Fp = self.surrogate.forces(on_base.position, on_base.velocity)
+        series = self.surrogate.predict(on_base.position, on_base.velocity)
         timing = self.policy.timing
         evidence = Evidence(
-            Fd=Fd,
-            Fp=Fp,
+            series=series,
             dt=float(self.force_t[1] - self.force_t[0]),
             position=path.position,
             velocity=path.velocity,
@@ -92,12 +97,14 @@ class TrajectoryProblem(Problem):
         )
         F = strategy_values(self.objectives, evidence)
         report = self.policy.check(X, samples=path, constraints=self.rules)
-        return PopulationEvaluation(X, F, report, Fd, Fp, self.force_t)
+        film = film_safety(series["curvature"], self.film_limit) if self.film_constrained else None
+        return PopulationEvaluation(X, F, report, series, film, self.force_t)
 
     def _evaluate(self, x: Array, out: dict, *args, **kwargs) -> None:
         result = self.evaluate_population(x)
         out["F"] = result.F
-        out["G"] = result.violations.violations / self.scales
+        G = result.violations.violations / self.scales
+        out["G"] = G if result.film is None else np.column_stack([G, result.film])
 
 
 @cache

@@ -111,6 +111,7 @@ def choose(
         "ms_per_generation": round(1e3 * result.seconds / result.generations, 2),
         "hypervolume": final.hypervolume,
         "feasible_in_final_population": final.feasible,
+        "film_constrained": problem.film_constrained,
         "front": {
             "size": len(free),
             "passing_recheck": int(passing.size),
@@ -179,6 +180,7 @@ def front_table(outcome: Outcome, ctx: RobotContext, models_digest: str) -> pa.T
         **{n: ev.X[:, j] for j, n in enumerate(DECISION_NAMES)},
         **{n: ev.F[:, j] for j, n in enumerate(names)},
         **{f"g:{rule}": ev.violations.violations[:, j] for j, rule in enumerate(rules)},
+        **({"g:film_safety": ev.film} if ev.film is not None else {}),
         "recheck_feasible": passing,
         "chosen": chosen,
     }
@@ -187,7 +189,8 @@ def front_table(outcome: Outcome, ctx: RobotContext, models_digest: str) -> pa.T
         "objectives": names,
         "free_variables": list(ctx.policy.free_names),
         "units": "decision variables in m; objectives in N (fs1-fs3), m (fs4, fs5), "
-        "dimensionless (fs7); g: columns are violations in the rule's units, > 0 violated",
+        "dimensionless (fs7), m/s^2 (fsj); g: columns are violations in the rule's units "
+        "(film_safety: fc * max curvature - 1, predicted), > 0 violated",
         "models_digest": models_digest,
     }
     table = pa.table(columns)
@@ -218,7 +221,7 @@ def optimum_record(
         "control_points": points.tolist(),
         "timing": {"T1": timing.T1, "T2": timing.T2, "T3": timing.T3},
         "objectives": dict(zip(names, map(float, ev.F[i]), strict=True)),
-        "predicted": {"t": ev.t.tolist(), "Fd": ev.Fd[i].tolist(), "Fp": ev.Fp[i].tolist()},
+        "predicted": {"t": ev.t.tolist(), **{k: v[i].tolist() for k, v in ev.series.items()}},
         "rhs": {
             "alpha": cfg.rhs_alpha,
             "beta": cfg.rhs_beta,

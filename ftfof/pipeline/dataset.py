@@ -11,10 +11,12 @@ from typing import Any
 
 import numpy as np
 import pyarrow as pa
+import pyarrow.parquet as pq
 
 from ftfof.config import Params
 from ftfof.data import dataset
 from ftfof.data.acquisition import ACQUISITION
+from ftfof.data.schema import field
 from ftfof.errors import DataError
 from ftfof.pipeline.digests import json_sha256
 from ftfof.pipeline.io import read_table
@@ -29,14 +31,28 @@ class Dataset:
     figure: Any  # a few samples (matplotlib)
 
 
+def read_acquisition(path: Path, what: str) -> pa.Table:
+    """An acquisition table, with the optional channels it carries (e.g. the film's curvature)."""
+    schema = ACQUISITION
+    try:
+        present = pq.read_schema(path).names
+    except (pa.ArrowException, OSError):  # read_table names the problem
+        present = []
+    for name in dataset.OPTIONAL_CHANNELS:
+        if name in present and name not in schema.names:
+            unit = dataset.UNITS.get(name, "")
+            schema = schema.append(field(name, pa.list_(pa.float32()), unit, f"series {name}"))
+    return read_table(path, schema, what)
+
+
 def build(params: Params, acquisition: Path, imported: Path) -> Dataset:
     """Resample every ok sample, split and normalise on train; a duplicate key is an error."""
     from ftfof.report.figures import dataset_figure
 
-    tables = [read_table(acquisition / "samples.parquet", ACQUISITION, "acquisition")]
+    tables = [read_acquisition(acquisition / "samples.parquet", "acquisition")]
     for path in sorted(imported.glob("*.parquet")) if imported.exists() else []:
-        tables.append(read_table(path, ACQUISITION, "imported log"))
-    table = pa.concat_tables(tables)
+        tables.append(read_acquisition(path, "imported log"))
+    table = pa.concat_tables(tables, promote_options="default")  # optional channels -> null
     keys = table.column("key").to_pylist()
     if dup := [k for k, c in Counter(keys).items() if c > 1]:
         raise DataError("dataset", f"sample {dup[0]!r} appears twice (imported twice?)")
@@ -64,6 +80,12 @@ def build(params: Params, acquisition: Path, imported: Path) -> Dataset:
         "baseline": splits.count("baseline"),
         "imported": built.column("source").to_pylist().count("imported"),
         "seq_len": cfg.seq_len,
+        "targets_supplied": {  # samples whose record supplies each target (the rest are masked)
+            name: int(
+                sum(np.isfinite(v).all() for v in built.column(name).to_numpy(zero_copy_only=False))
+            )
+            for name in dataset.TARGETS
+        },
         "peak_detachment_mean": float(np.nanmean(built.column("peak_detachment").to_numpy())),
         "normalization": meta["normalization"],
     }

@@ -26,10 +26,11 @@ from ftfof.pipeline import tracking
 from ftfof.pipeline.console import console
 from ftfof.pipeline.digests import models_digest, optimum_digest
 from ftfof.pipeline.io import atomic_dir, atomic_path, save_figure, write_json
-from ftfof.pipeline.registry import RegisteredWeights, fetch_pair
+from ftfof.pipeline.registry import RegisteredWeights, fetch_model
 from ftfof.pipeline.simcheck import simulator_check
 from ftfof.robot import RobotContext, robot_context
 from ftfof.seeds import seed_for
+from ftfof.sim.film import film_limit
 
 
 @dataclass
@@ -41,7 +42,7 @@ class Setup:
     settings: SearchSettings
     initial: np.ndarray | None  # free-variable rows, or None for pymoo's uniform start
     models_digest: str
-    registered: dict[str, RegisteredWeights]  # target -> the model version resolved by alias
+    registered: RegisteredWeights  # the model version resolved by alias
 
 
 @dataclass(frozen=True)
@@ -59,10 +60,22 @@ def prepare(params: Params, models: Path) -> Setup:
 
     ctx = robot_context(params)
     mlflow = tracking.setup(tracking.experiment_name(params.robot))
-    registered = fetch_pair(mlflow, params.robot, params.train.use, params.train.alias, models)
-    surrogate = load_surrogate(models, params.train.use, {t: w.path for t, w in registered.items()})
+    registered = fetch_model(mlflow, params.robot, params.train.use, params.train.alias, models)
+    surrogate = load_surrogate(models, params.train.use, registered.path)
     cfg = params.optimize
-    problem = TrajectoryProblem(ctx.policy, surrogate, ctx.robot.objectives, ctx.robot.pre_pressure)
+    robot = ctx.robot
+    problem = TrajectoryProblem(
+        ctx.policy,
+        surrogate,
+        robot.objectives,
+        robot.pre_pressure,
+        film_limit(robot, params.selected_surface).radius,
+    )
+    if not problem.film_constrained:
+        console.print(
+            "[yellow]the surrogate has no film-curvature target (acquisition without the "
+            "film_curvature channel): film safety is not constrained in the search"
+        )
     seed = seed_for(params.search_seed, "optimize")
     settings = SearchSettings(
         population=cfg.population,
@@ -147,7 +160,7 @@ class OptimizeRun:
             "objectives": ",".join(setup.ctx.robot.objectives),
             "free_variables": ",".join(setup.ctx.policy.free_names),
             "models_digest": digest,
-            "model": {t: w.uri for t, w in setup.registered.items()},
+            "model": setup.registered.uri,
         }
         mlflow.log_params(tracking.flatten(settings))
         return self

@@ -1,7 +1,8 @@
-"""Surrogates in the MLflow model registry: one registered model per robot, target and loss.
+"""Surrogates in the MLflow model registry: one registered model per robot and loss (each a
+multi-output GRU over every target).
 
 ``train`` registers every model it trains as a new version and points an alias (``champion`` by
-default) at the pair the optimiser is to use; ``optimize`` resolves the pair by that alias, so the
+default) at the model the optimiser is to use; ``optimize`` resolves it by that alias, so the
 MLflow UI shows which version each search used. The state dict rides along in the model version
 (``extra_files``) and is read with ``torch.load(weights_only=True)``: nothing is unpickled.
 """
@@ -14,12 +15,12 @@ from pathlib import Path
 
 from ftfof.errors import DataError
 from ftfof.pipeline.digests import file_sha256
-from ftfof.surrogate.store import TARGETS, weights_file
+from ftfof.surrogate.store import weights_file
 
 
-def model_name(robot: str, target: str, loss: str) -> str:
-    """The registered model's name, e.g. ``ftfof-mst_m3f-Fd-dilate``."""
-    return f"ftfof-{robot}-{target}-{loss}"
+def model_name(robot: str, loss: str) -> str:
+    """The registered model's name, e.g. ``ftfof-mst_m3f-dilate``."""
+    return f"ftfof-{robot}-{loss}"
 
 
 @dataclass(frozen=True)
@@ -36,39 +37,34 @@ class RegisteredWeights:
         return f"models:/{self.name}/{self.version}"
 
 
-def fetch_pair(
+def fetch_model(
     mlflow, robot: str, loss: str, alias: str, models_dir: Path, into: Path | None = None
-) -> dict[str, RegisteredWeights]:
-    """Resolve ``models:/ftfof-<robot>-<target>-<loss>@<alias>`` for Fd and Fp and download the
-    weights; each must be byte-identical to the file DVC tracks in ``models_dir``, so the registry
-    and the pipeline cannot disagree about which surrogates a search used."""
+) -> RegisteredWeights:
+    """Resolve ``models:/ftfof-<robot>-<loss>@<alias>`` and download its weights, which must be
+    byte-identical to the file DVC tracks in ``models_dir``, so the registry and the pipeline
+    cannot disagree about which surrogate a search used."""
     from mlflow.exceptions import MlflowException
 
     client = mlflow.MlflowClient()
     into = into or Path(tempfile.mkdtemp(prefix="ftfof-models-"))
-    out: dict[str, RegisteredWeights] = {}
-    for target in TARGETS:
-        name = model_name(robot, target, loss)
-        uri = f"models:/{name}@{alias}"
-        try:
-            version = client.get_model_version_by_alias(name, alias)
-        except MlflowException:
-            raise DataError(
-                uri,
-                f"not in the MLflow registry at {mlflow.get_tracking_uri()} (run `ftfof train`)",
-            ) from None
-        local = Path(
-            mlflow.artifacts.download_artifacts(artifact_uri=uri, dst_path=str(into / target))
+    name = model_name(robot, loss)
+    uri = f"models:/{name}@{alias}"
+    try:
+        version = client.get_model_version_by_alias(name, alias)
+    except MlflowException:
+        raise DataError(
+            uri,
+            f"not in the MLflow registry at {mlflow.get_tracking_uri()} (run `ftfof train`)",
+        ) from None
+    local = Path(mlflow.artifacts.download_artifacts(artifact_uri=uri, dst_path=str(into)))
+    path = local / "extra_files" / weights_file(loss)
+    tracked = models_dir / weights_file(loss)
+    if not path.is_file():
+        raise DataError(uri, f"model version {version.version} carries no {path.name}")
+    if not tracked.is_file() or file_sha256(path) != file_sha256(tracked):
+        raise DataError(
+            uri,
+            f"version {version.version} differs from {tracked} "
+            "(models trained elsewhere? re-run `ftfof train`)",
         )
-        path = local / "extra_files" / weights_file(target, loss)
-        tracked = models_dir / weights_file(target, loss)
-        if not path.is_file():
-            raise DataError(uri, f"model version {version.version} carries no {path.name}")
-        if not tracked.is_file() or file_sha256(path) != file_sha256(tracked):
-            raise DataError(
-                uri,
-                f"version {version.version} differs from {tracked} "
-                "(models trained elsewhere? re-run `ftfof train`)",
-            )
-        out[target] = RegisteredWeights(name, str(version.version), version.run_id, path)
-    return out
+    return RegisteredWeights(name, str(version.version), version.run_id, path)

@@ -1,4 +1,4 @@
-"""The `train` run: one GRU per target and loss, side by side in processes, and its MLflow runs
+"""The `train` run: one multi-output GRU per loss, side by side in processes, and its MLflow runs
 (a parent per invocation, a child per model, every model registered as a version)."""
 
 from __future__ import annotations
@@ -21,31 +21,30 @@ from ftfof.surrogate.store import TARGETS, TrainingData, weights_file
 
 @dataclass
 class Training:
-    results: list[dict[str, Any]]  # one per model: job, state dict, history, metrics, predictions
+    results: list[dict[str, Any]]  # one per loss: job, state dict, history, metrics, predictions
     summary: dict[str, Any]  # the stage's metrics
     wall: float  # seconds
 
 
 def train_all(params: Params, data: TrainingData) -> Training:
-    """Train every target with every loss; seeds differ by target, not by loss."""
+    """Train the multi-output model with every loss, on the same split and seed."""
     cfg = params.train
-    jobs = [
-        {"target": t, "index": i, "kind": k, "seed": seed_for(params.search_seed, "train", i)}
-        for i, t in enumerate(TARGETS)
-        for k in cfg.losses
-    ]
+    jobs = [{"kind": k, "seed": seed_for(params.search_seed, "train", 0)} for k in cfg.losses]
     started = time.perf_counter()
     results = run_jobs(jobs, data, cfg)
     wall = time.perf_counter() - started
     summary: dict[str, Any] = {
-        f"{r['target']}_{r['kind']}": {
-            **r["metrics"],
+        r["kind"]: {
             "epochs": len(r["history"]["train"]),
+            "epoch_cap": cfg.epochs,
             "best_epoch": r["history"]["best_epoch"],
+            "stopped_early": len(r["history"]["train"]) < cfg.epochs,
             "seconds": round(r["seconds"], 2),
+            "targets": r["metrics"],
         }
         for r in results
     }
+    summary["trained_targets"] = list(data.trained)
     summary["wall_seconds"] = round(wall, 2)
     return Training(results, summary, wall)
 
@@ -64,19 +63,19 @@ def run_jobs(jobs: list[dict], data: TrainingData, cfg: Train) -> list[dict]:
 
 def _train_one(job: dict, data: TrainingData, cfg: Train, threads: int) -> dict:
     import numba
+    import numpy as np
     import torch
 
     from ftfof.surrogate.train import predict, train_model, validation_metrics
 
     torch.set_num_threads(threads)
     numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
-    i = job["index"]
-    x_tr, y_tr = data.inputs("train"), data.target("train", i)
-    x_va, y_va = data.inputs("validation"), data.target("validation", i)
-    trained = train_model(x_tr, y_tr, x_va, y_va, job["kind"], cfg, job["seed"])
-    scale = data.target_scale[i]
-    pred = predict(trained.model, x_va)[..., 0] * scale
-    truth = y_va[..., 0] * scale
+    x_tr, y_tr = data.inputs("train"), data.targets("train")
+    x_va, y_va = data.inputs("validation"), data.targets("validation")
+    trained = train_model(x_tr, y_tr, x_va, y_va, job["kind"], cfg, job["seed"], TARGETS)
+    scale = np.asarray(data.target_scale)
+    pred = predict(trained.model, x_va) * scale
+    truth = y_va * scale
     return {
         **job,
         "state": {k: v.numpy() for k, v in trained.model.state_dict().items()},
@@ -85,7 +84,11 @@ def _train_one(job: dict, data: TrainingData, cfg: Train, threads: int) -> dict:
             "validation": trained.history.validation,
             "best_epoch": trained.history.best_epoch,
         },
-        "metrics": validation_metrics(pred, truth, data.dt),
+        "metrics": {
+            name: validation_metrics(pred[..., k], truth[..., k], data.dt)
+            for k, name in enumerate(TARGETS)
+            if name in data.trained
+        },
         "seconds": trained.seconds,
         "val_pred": pred,
         "val_truth": truth,
@@ -100,8 +103,8 @@ def track(
     out: Path,
     dataset_dir: Path,
 ) -> None:
-    """One parent run per invocation, a child per model and loss; every model is registered as a
-    version of ``ftfof-<robot>-<target>-<loss>``, and the ``use`` pair gets the alias."""
+    """One parent run per invocation, a child per loss; every model is registered as a version of
+    ``ftfof-<robot>-<loss>``, and the ``use`` model gets the alias."""
     import numpy as np
     import torch
 
@@ -134,17 +137,16 @@ def track(
             mlflow.log_artifact(str(path), artifact_path="figures")
         for r in run.results:
             with mlflow.start_run(
-                run_name=f"{r['target']}-{r['kind']}",
-                nested=True,
-                tags={**tags, "target": r["target"], "loss": r["kind"]},
+                run_name=r["kind"], nested=True, tags={**tags, "loss": r["kind"]}
             ):
                 mlflow.log_input(dataset_input, context="training")
+                targets = ",".join(TARGETS)
                 mlflow.log_params(
-                    {**flat, "target": r["target"], "loss": r["kind"], "seed": r["seed"]}
+                    {**flat, "targets": targets, "loss": r["kind"], "seed": r["seed"]}
                 )
                 _log_history(mlflow, r)
                 model, output = _model_output(r, cfg, example)
-                name = model_name(params.robot, r["target"], r["kind"])
+                name = model_name(params.robot, r["kind"])
                 info = mlflow.pytorch.log_model(
                     model,
                     name="model",
@@ -153,7 +155,7 @@ def track(
                     pip_requirements=requirements,
                     serialization_format="pickle",
                     registered_model_name=name,
-                    extra_files=[str(out / weights_file(r["target"], r["kind"]))],
+                    extra_files=[str(out / weights_file(r["kind"]))],
                 )
                 if r["kind"] == cfg.use:
                     mlflow.MlflowClient().set_registered_model_alias(
@@ -175,7 +177,9 @@ def _log_history(mlflow, result: dict) -> None:
     ]
     for start in range(0, len(batch), 900):
         client.log_batch(run_id, metrics=batch[start : start + 900])
-    mlflow.log_metrics({f"val_{k}": v for k, v in result["metrics"].items()})
+    mlflow.log_metrics(
+        {f"val_{t}_{k}": v for t, m in result["metrics"].items() for k, v in m.items()}
+    )
     mlflow.log_metric("best_epoch", result["history"]["best_epoch"])
 
 
@@ -185,7 +189,9 @@ def _model_output(result: dict, cfg: Train, example):
 
     from ftfof.surrogate.model import ForceGRU, ModelConfig
 
-    model = ForceGRU(ModelConfig(hidden=cfg.hidden, layers=cfg.layers, dropout=cfg.dropout))
+    model = ForceGRU(
+        ModelConfig(hidden=cfg.hidden, layers=cfg.layers, dropout=cfg.dropout, outputs=len(TARGETS))
+    )
     model.load_state_dict({k: torch.from_numpy(v) for k, v in result["state"].items()})
     model.eval()
     with torch.no_grad():

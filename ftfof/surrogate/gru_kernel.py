@@ -1,11 +1,11 @@
 """A compiled float32 GRU layer for whole populations: the optimiser's hot path.
 
 One call runs a layer over (batch, steps), input projections included (a precomputed (B, T, 3H)
-projection costs more in memory traffic than the multiply-adds it saves); the last layer has the
-linear head fused so its hidden states are never stored. The recurrence works on blocks of four
-sequences so each recurrent weight loaded from cache feeds four multiply-adds, and blocks run in
-parallel threads. Gates use a rational tanh (sigmoid(x) = (1 + tanh(x/2)) / 2) so the gate loop
-vectorises instead of calling libm per element.
+projection costs more in memory traffic than the multiply-adds it saves); the last layer has its
+linear K-output head fused so its hidden states are never stored. The recurrence works on blocks
+of four sequences so each recurrent weight loaded from cache feeds four multiply-adds, and blocks
+run in parallel threads. Gates use a rational tanh (sigmoid(x) = (1 + tanh(x/2)) / 2) so the gate
+loop vectorises instead of calling libm per element.
 
 The tanh approximation x P(x^2) / Q(x^2) (degrees 4/4 in x^2) was fitted by iteratively
 reweighted least squares on [0, 9] and is clamped there; its error against tanh is below 6e-8
@@ -101,12 +101,13 @@ def _advance(x, t, first, rows, w_ih_t, b_ih, w_hh_t, b_hh, h, gi, gh):  # pragm
 def gru_run(x, w_ih_t, b_ih, w_hh_t, b_hh, out, head_w, head_b, y, fused):  # pragma: no cover
     """One layer from h0 = 0 over x (B, T, I), weights transposed.
 
-    ``fused``: only the linear head y (B, T) = head_w . h_t + head_b is written (the last layer);
-    otherwise the hidden states go to ``out`` (B, T, H) for the next layer.
+    ``fused``: only the linear head y (B, T, K) = head_w (K, H) . h_t + head_b is written (the
+    last layer); otherwise the hidden states go to ``out`` (B, T, H) for the next layer.
     """
     n_seq, steps, _ = x.shape
     width = b_hh.shape[0]
     hid = width // 3
+    n_out = head_b.shape[0]
     for block in numba.prange((n_seq + BLOCK - 1) // BLOCK):
         first = block * BLOCK
         rows = min(BLOCK, n_seq - first)
@@ -117,10 +118,11 @@ def gru_run(x, w_ih_t, b_ih, w_hh_t, b_hh, out, head_w, head_b, y, fused):  # pr
             _advance(x, t, first, rows, w_ih_t, b_ih, w_hh_t, b_hh, h, gi, gh)
             for i in range(rows):
                 if fused:
-                    acc = head_b
-                    for j in range(hid):
-                        acc += head_w[j] * h[i, j]
-                    y[first + i, t] = acc
+                    for o in range(n_out):
+                        acc = head_b[o]
+                        for j in range(hid):
+                            acc += head_w[o, j] * h[i, j]
+                        y[first + i, t, o] = acc
                 else:
                     out[first + i, t, :] = h[i, :]
 
@@ -151,14 +153,16 @@ class Layer:
     def hidden_states(self, seq: NDArray[np.float32]) -> NDArray[np.float32]:
         """(B, T, inputs) -> (B, T, H)."""
         out = np.empty((*seq.shape[:2], self.hidden), np.float32)
-        unused_w, unused_y = np.zeros(self.hidden, np.float32), np.empty((1, 1), np.float32)
-        self._run(seq, out, unused_w, np.float32(0), unused_y, False)
+        unused_w, unused_b = np.zeros((1, self.hidden), np.float32), np.zeros(1, np.float32)
+        self._run(seq, out, unused_w, unused_b, np.empty((1, 1, 1), np.float32), False)
         return out
 
-    def head(self, seq: NDArray[np.float32], w: NDArray[np.float32], b: float) -> NDArray:
-        """(B, T, inputs) -> (B, T) linear head over this layer's hidden states."""
-        y = np.empty(seq.shape[:2], np.float32)
-        self._run(seq, np.empty((1, 1, 1), np.float32), w, np.float32(b), y, True)
+    def head(
+        self, seq: NDArray[np.float32], w: NDArray[np.float32], b: NDArray[np.float32]
+    ) -> NDArray:
+        """(B, T, inputs) -> (B, T, K) linear head (w (K, H), b (K,)) over the hidden states."""
+        y = np.empty((*seq.shape[:2], len(b)), np.float32)
+        self._run(seq, np.empty((1, 1, 1), np.float32), w, b, y, True)
         return y
 
     def _run(self, seq, out, head_w, head_b, y, fused: bool) -> None:

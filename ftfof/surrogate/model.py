@@ -1,4 +1,4 @@
-"""The surrogate: trajectory sequence -> force sequence (FTFOF §IV.B, Fig. 4)."""
+"""The surrogate: trajectory sequence -> target sequences (FTFOF §IV.B, Fig. 4)."""
 
 from __future__ import annotations
 
@@ -14,16 +14,19 @@ class ModelConfig:
     hidden: int = 64
     layers: int = 2
     dropout: float = 0.0
+    outputs: int = 1  # target series predicted side by side (one head row each)
 
     def as_dict(self) -> dict[str, float]:
         return asdict(self)
 
 
 class ForceGRU(nn.Module):
-    """Causal GRU over the trajectory, a softplus head per step: forces are >= 0.
+    """Causal GRU over the trajectory, a softplus head per step: every target is >= 0.
 
     Causal (unidirectional) because a force at time t cannot depend on where the foot goes later.
-    Input (B, N, 4) normalised trajectory features; output (B, N, 1) force divided by its scale.
+    One recurrent state feeds all the targets (they are all consequences of the same peel), so K
+    targets cost one GRU pass. Input (B, N, 4) normalised trajectory features; output (B, N, K),
+    each target divided by its scale.
     """
 
     def __init__(self, config: ModelConfig):
@@ -36,7 +39,7 @@ class ForceGRU(nn.Module):
             batch_first=True,
             dropout=config.dropout if config.layers > 1 else 0.0,
         )
-        self.head = nn.Linear(config.hidden, 1)
+        self.head = nn.Linear(config.hidden, config.outputs)
 
     def forward(self, x: torch.Tensor) -> torch.Tensor:
         h, _ = self.gru(x)

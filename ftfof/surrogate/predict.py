@@ -1,4 +1,4 @@
-"""Trained surrogates as one fast, batched trajectory -> (Fd, Fp) map for the optimiser.
+"""The trained surrogate as one fast, batched trajectory -> target series map for the optimiser.
 
 PyTorch's CPU GRU pays a dispatch per time step (about 18 ms for 200 sequences of 100 steps) and a
 NumPy step loop pays one per operation (about 100 ms); here each layer's input projections are one
@@ -8,17 +8,19 @@ GEMM and the recurrence is one compiled float32 kernel over the whole population
     r = s(W_ir x + b_ir + W_hr h + b_hr),  z = s(W_iz x + b_iz + W_hz h + b_hz)
     n = tanh(W_in x + b_in + r * (W_hn h + b_hn)),  h' = (1 - z) * n + z * h
 
-float32 is the precision the models were trained in; forces come back as float64.
+float32 is the precision the models were trained in; series come back as float64, by name.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
 
-from ftfof.data.dataset import Normalization, time_base
+from ftfof.data.dataset import Normalization
+from ftfof.data.targets import time_base
 from ftfof.surrogate.gru_kernel import Layer
 
 Array = NDArray[np.float64]
@@ -26,11 +28,11 @@ Array = NDArray[np.float64]
 
 @dataclass(frozen=True)
 class GRUWeights:
-    """One ForceGRU's weights: its GRU layers and the linear head, float32."""
+    """One ForceGRU's weights: its GRU layers and the linear K-output head, float32."""
 
     layers: tuple[Layer, ...]
-    head_w: NDArray[np.float32]  # (hidden,)
-    head_b: float
+    head_w: NDArray[np.float32]  # (K, hidden)
+    head_b: NDArray[np.float32]  # (K,)
 
     @classmethod
     def from_state(cls, state: dict[str, NDArray]) -> GRUWeights:
@@ -41,11 +43,16 @@ class GRUWeights:
             )
             for i in range(n)
         )
-        head_w = np.ascontiguousarray(np.asarray(state["head.weight"], np.float32).reshape(-1))
-        return cls(layers, head_w, float(np.asarray(state["head.bias"]).reshape(-1)[0]))
+        head_w = np.asarray(state["head.weight"], np.float32)
+        head_b = np.asarray(state["head.bias"], np.float32).reshape(-1)
+        return cls(layers, np.ascontiguousarray(head_w), np.ascontiguousarray(head_b))
+
+    @property
+    def outputs(self) -> int:
+        return len(self.head_b)
 
     def __call__(self, x: NDArray) -> Array:
-        """(pop, N, inputs) normalised -> (pop, N) normalised force (softplus >= 0)."""
+        """(pop, N, inputs) normalised -> (pop, N, K) normalised targets (softplus >= 0)."""
         seq = np.ascontiguousarray(x, dtype=np.float32)
         for layer in self.layers[:-1]:
             seq = layer.hidden_states(seq)
@@ -55,13 +62,25 @@ class GRUWeights:
 
 @dataclass(frozen=True)
 class Surrogate:
-    """Trajectory samples on the dataset's time base -> predicted Fd and Fp in newtons."""
+    """Trajectory samples on the dataset's time base -> the named target series, in their units.
 
-    detachment: GRUWeights
-    pre_pressure: GRUWeights
+    ``targets`` names the model's outputs in order; ``trained`` those the training data supplied
+    (a target no training sample had, e.g. the film channel of an older acquisition, is untrained
+    and must not be read as a prediction).
+    """
+
+    model: GRUWeights
+    targets: tuple[str, ...]
+    trained: tuple[str, ...]
     normalization: Normalization
     seq_len: int
     hold: float
+
+    def __post_init__(self) -> None:
+        if self.model.outputs != len(self.targets):
+            raise ValueError(
+                f"the model has {self.model.outputs} outputs for {len(self.targets)} targets"
+            )
 
     def time_base(self, T3: float) -> Array:
         return time_base(T3, self.hold, self.seq_len)
@@ -73,8 +92,15 @@ class Surrogate:
             self.normalization.input_scale
         )
 
-    def forces(self, position: Array, velocity: Array) -> tuple[Array, Array]:
-        """(Fd, Fp), each (pop, N), for trajectories sampled at :meth:`time_base`."""
-        x = self.features(position, velocity)
+    def predict(
+        self, position: Array, velocity: Array, names: Sequence[str] | None = None
+    ) -> dict[str, Array]:
+        """Target name -> (pop, N) series for trajectories sampled at :meth:`time_base`; every
+        trained target unless ``names`` says which."""
+        names = self.trained if names is None else tuple(names)
+        untrained = [n for n in names if n not in self.trained]
+        if untrained:
+            raise ValueError(f"the surrogate was not trained on {untrained} (has {self.trained})")
+        y = self.model(self.features(position, velocity))
         scale = self.normalization.target_scale
-        return self.detachment(x) * scale[0], self.pre_pressure(x) * scale[1]
+        return {n: y[..., self.targets.index(n)] * scale[self.targets.index(n)] for n in names}

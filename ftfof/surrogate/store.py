@@ -1,8 +1,9 @@
 """The surrogates on disk: the dataset as training arrays, and the model directory, whose format
 is defined here once, by its writer and its reader side by side.
 
-A model directory holds one state dict per target and loss (``torch.load(weights_only=True)``),
-``normalization.json`` and ``config.json``; it is written whole or not at all.
+A model directory holds one state dict per loss (``torch.load(weights_only=True)``), each a
+multi-output GRU over every target of :mod:`ftfof.data.targets`, ``normalization.json`` and
+``config.json`` (which targets the training data supplied); it is written whole or not at all.
 """
 
 from __future__ import annotations
@@ -25,12 +26,12 @@ from ftfof.pipeline.io import atomic_dir, read_table
 from ftfof.surrogate.predict import GRUWeights, Surrogate
 
 FILE = "samples.parquet"
-TARGETS = ("Fd", "Fp")
+TARGETS = dataset.TARGETS
 
 
-def weights_file(target: str, loss: str) -> str:
+def weights_file(loss: str) -> str:
     """The state-dict file of one model, in the model directory and in the registry alike."""
-    return f"{target}_{loss}.pt"
+    return f"surrogate_{loss}.pt"
 
 
 @dataclass
@@ -59,6 +60,12 @@ class TrainingData:
         return self.normalization.target_scale
 
     @property
+    def trained(self) -> tuple[str, ...]:
+        """The targets some training sample supplies (the others are masked out everywhere)."""
+        y = self._arrays["train"][1]
+        return tuple(n for k, n in enumerate(TARGETS) if np.isfinite(y[..., k]).any())
+
+    @property
     def dt(self) -> float:
         t = np.asarray(self.table.column("t")[0].as_py())
         return float(t[1] - t[0])
@@ -66,8 +73,9 @@ class TrainingData:
     def inputs(self, split: str) -> np.ndarray:
         return self._arrays[split][0]
 
-    def target(self, split: str, index: int) -> np.ndarray:
-        return self._arrays[split][1][..., index : index + 1]
+    def targets(self, split: str) -> np.ndarray:
+        """(n, N, K) normalised targets, NaN where a sample does not supply one."""
+        return self._arrays[split][1]
 
 
 def read_dataset(directory: Path) -> TrainingData:
@@ -96,7 +104,7 @@ def write_models(out: Path, results: list[dict[str, Any]], data: TrainingData, c
     with atomic_dir(out) as tmp:
         for r in results:
             state = {k: torch.from_numpy(v) for k, v in r["state"].items()}
-            torch.save(state, tmp / weights_file(r["target"], r["kind"]))
+            torch.save(state, tmp / weights_file(r["kind"]))
         (tmp / "normalization.json").write_text(data.normalization.to_json() + "\n")
         config = {
             "model": {
@@ -104,8 +112,10 @@ def write_models(out: Path, results: list[dict[str, Any]], data: TrainingData, c
                 "hidden": cfg.hidden,
                 "layers": cfg.layers,
                 "dropout": cfg.dropout,
+                "outputs": len(TARGETS),
             },
             "targets": list(TARGETS),
+            "trained": list(data.trained),
             "losses": list(cfg.losses),
             "use": cfg.use,
             "seq_len": data.seq_len,
@@ -116,12 +126,12 @@ def write_models(out: Path, results: list[dict[str, Any]], data: TrainingData, c
 
 
 def load_surrogate(
-    directory: Path, loss: str | None = None, weights: dict[str, Path] | None = None
+    directory: Path, loss: str | None = None, weights: Path | None = None
 ) -> Surrogate:
-    """The trained Fd and Fp models of one loss (default: the config's ``use``).
+    """The trained model of one loss (default: the config's ``use``).
 
-    ``weights`` replaces the state-dict files by target (the registry's copies, already checked
-    against ``directory``); normalisation and model config always come from ``directory``.
+    ``weights`` replaces the state-dict file (the registry's copy, already checked against
+    ``directory``); normalisation and model config always come from ``directory``.
     """
     import torch
 
@@ -130,12 +140,17 @@ def load_surrogate(
         raise DataError(str(directory), "no trained models (run `ftfof train` first)")
     config = json.loads(config_path.read_text())
     loss = loss or config["use"]
-    models = []
-    for target in TARGETS:
-        path = (weights or {}).get(target) or directory / weights_file(target, loss)
-        if not path.exists():
-            raise DataError(str(path), f"missing model for {target} with the {loss} loss")
-        state = torch.load(path, weights_only=True)
-        models.append(GRUWeights.from_state({k: v.numpy() for k, v in state.items()}))
+    path = weights or directory / weights_file(loss)
+    if not path.exists():
+        raise DataError(str(path), f"missing model for the {loss} loss")
+    state = torch.load(path, weights_only=True)
+    model = GRUWeights.from_state({k: v.numpy() for k, v in state.items()})
     norm = dataset.Normalization.from_json((directory / "normalization.json").read_text())
-    return Surrogate(models[0], models[1], norm, config["seq_len"], config["hold"])
+    return Surrogate(
+        model,
+        tuple(config["targets"]),
+        tuple(config["trained"]),
+        norm,
+        config["seq_len"],
+        config["hold"],
+    )

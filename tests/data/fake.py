@@ -1,4 +1,9 @@
-"""Synthetic acquisition rows for dataset tests (no simulation needed)."""
+"""Synthetic acquisition rows for dataset tests (no simulation needed).
+
+A fake sample presses with 5 N, peels with a Gaussian pull of ``peak`` (normal) and 0.4 of it in
+shear, loses its bonds over the pull, trips the switch at 0.2 s, rings the body on release and
+lands at 1.05 s; ``with_film`` adds the film's curvature channel.
+"""
 
 from __future__ import annotations
 
@@ -8,19 +13,19 @@ import pyarrow as pa
 from ftfof.data.acquisition import to_table
 from ftfof.sim.records import CHANNELS, SampleResult
 
+SWITCH = 0.2  # s
 
-def fake_result(
-    key: str, source: str, sample_id: int, peak: float, status: str = "ok"
-) -> SampleResult:
+
+def fake_channels(peak: float) -> dict[str, np.ndarray]:
     t = np.arange(-0.25, 1.25, 1e-3)
     tt = np.clip(t, 0, 1)
     x = 0.12 * (10 * tt**3 - 15 * tt**4 + 6 * tt**5)
     z = 0.04 * 64 * tt**3 * (1 - tt) ** 3
-    fz = np.where(
-        t < 0,
-        -5.0,
-        peak * np.exp(-((t - 0.1) ** 2) / 2e-4) - 5.0 * np.exp(-((t - 1.05) ** 2) / 1e-3),
-    )
+    pull = peak * np.exp(-((t - 0.1) ** 2) / 2e-4)
+    fz = np.where(t < 0, -5.0, pull - 5.0 * np.exp(-((t - 1.05) ** 2) / 1e-3))
+    fx = np.where(t < 0, 0.0, 0.4 * pull)
+    bonds = np.where(t < 0.08, 20.0, np.where(t < 0.15, 10.0, 0.0))
+    ring = peak * 3.0 * np.exp(-np.maximum(t - 0.15, 0) / 0.01) * (t >= 0.15)
     ch = {c: np.zeros_like(t) for c in CHANNELS}
     ch.update(
         t=t,
@@ -28,22 +33,47 @@ def fake_result(
         z_cmd=z,
         x_foot=x,
         z_foot=z,
+        Fx=fx,
         Fz=fz,
+        Fx_pad=fx,
         Fz_pad=fz,
         Fd=np.maximum(fz, 0),
         Fp=np.maximum(-fz, 0),
+        body_acc=2.0 + ring,
+        bonds=bonds,
+        switch=(t >= SWITCH).astype(float),
     )
+    return ch
+
+
+def fake_result(
+    key: str, source: str, sample_id: int, peak: float, status: str = "ok"
+) -> SampleResult:
+    ch = fake_channels(peak)
     r = SampleResult(key, source, sample_id, status, "" if status == "ok" else "boom", 0.1, ch)
-    r.scalars = {"peak_detachment": float(np.maximum(fz, 0).max()), "peak_pre_pressure": 5.0}
+    r.scalars = {"peak_detachment": float(ch["Fd"].max()), "peak_pre_pressure": 5.0}
     return r
 
 
-def fake_acquisition(n: int = 40, failed: int = 2) -> pa.Table:
-    results = [fake_result(f"sampled:{i}", "sampled", i, 3 + i % 5) for i in range(n)]
+def film_curvature(t: np.ndarray, peak: float) -> np.ndarray:
+    """1/m: a bend that tightens with the pull (peak 3 N -> radius 10 mm)."""
+    return (peak / 3.0) * 100.0 * np.exp(-((t - 0.12) ** 2) / 1e-3)
+
+
+def fake_acquisition(n: int = 40, failed: int = 2, with_film: bool = True) -> pa.Table:
+    peaks = [3 + i % 5 for i in range(n)]
+    results = [fake_result(f"sampled:{i}", "sampled", i, p) for i, p in enumerate(peaks)]
     results += [
         fake_result(f"sampled:{n + i}", "sampled", n + i, 1.0, "failed") for i in range(failed)
     ]
     results += [
         fake_result(f"baseline:{b}:0", f"baseline:{b}", 0, 7.0) for b in ("polynomial", "cycloidal")
     ]
-    return to_table(results, "mst_m3f", "acrylic", {}, 1.0, with_wall_time=False)
+    table = to_table(results, "mst_m3f", "acrylic", {}, 1.0, with_wall_time=False)
+    if not with_film:
+        return table
+    curvature = [
+        film_curvature(r.channels["t"], p).astype(np.float32)
+        for r, p in zip(results, [*peaks, *[1.0] * failed, 7.0, 7.0], strict=True)
+    ]
+    return table.append_column("film_curvature", pa.array(curvature, pa.list_(pa.float32())))

@@ -9,18 +9,12 @@ from ftfof.data import dataset
 from tests.data.fake import fake_acquisition
 
 
-def test_bin_max_keeps_a_narrow_peak_that_interpolation_would_miss():
-    t = np.arange(0.0, 1.0, 1e-3)
-    f = np.where(np.abs(t - 0.3004) < 1e-3, 7.0, 0.1)
-    binned = dataset.bin_max(t, f, 0.9, 0.1, 32)
-    assert binned.max() == 7.0
-    assert np.interp(dataset.time_base(0.9, 0.1, 32), t, f).max() < 7.0
-
-
 def test_resampled_velocities_match_the_motion():
     t = np.arange(0.0, 1.2, 1e-3)
     x, z = 0.1 * np.sin(t), 0.02 * t**2
-    s = dataset.resample(t, x, z, np.zeros_like(t), np.zeros_like(t), 1.0, 0.1, 64)
+    zero = np.zeros_like(t)
+    channels = {"t": t, "x_cmd": x, "z_cmd": z, "Fx_pad": zero, "Fz_pad": zero}
+    s = dataset.resample(channels, 1.0, 0.1, 64)
     np.testing.assert_allclose(s["vx"], 0.1 * np.cos(s["t"]), atol=1e-6)
     np.testing.assert_allclose(s["vz"], 0.04 * s["t"], atol=1e-6)
 
@@ -44,7 +38,8 @@ def built():
 def test_build_keeps_ok_samples_flags_baselines_and_documents_units(built):
     table, _ = built
     assert table.num_rows == 42  # 40 ok + 2 baselines; the 2 failed are left out
-    assert table.schema.field("Fd").type == pa.list_(pa.float32(), 64)
+    assert table.schema.field("pull").type == pa.list_(pa.float32(), 64)
+    assert table.schema.field("curvature").metadata[b"unit"] == b"1/m"
     assert table.schema.field("vx").metadata[b"unit"] == b"m/s"
     splits = table.column("split").to_pylist()
     sources = table.column("source").to_pylist()
@@ -61,6 +56,7 @@ def test_normalisation_comes_from_the_training_split_only(built):
     np.testing.assert_allclose(
         norm.target_scale, np.sqrt((y_train**2).mean(axis=(0, 1))), rtol=1e-5
     )
+    assert len(norm.target_scale) == len(dataset.TARGETS)
     assert dataset.Normalization.from_json(norm.to_json()) == norm
 
 
@@ -68,6 +64,15 @@ def test_targets_keep_the_peaks(built):
     table, _ = built
     _, y = dataset.arrays(table, "train")
     rows = table.filter(pa.compute.equal(table.column("split"), "train"))
+    fd = dataset.TARGETS.index("Fd")
     np.testing.assert_allclose(
-        y[:, :, 0].max(axis=1), rows.column("peak_detachment").to_numpy(), rtol=1e-6
+        y[:, :, fd].max(axis=1), rows.column("peak_detachment").to_numpy(), rtol=1e-6
     )
+
+
+def test_an_acquisition_without_the_film_channel_masks_its_target():
+    table, norm = dataset.build(fake_acquisition(with_film=False), config.Dataset(seq_len=64), 3)
+    _, y = dataset.arrays(table, "train")
+    k = dataset.TARGETS.index("curvature")
+    assert np.isnan(y[..., k]).all() and np.isfinite(np.delete(y, k, axis=-1)).all()
+    assert norm.target_scale[k] == 1.0

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from ftfof.data.dataset import time_base
-from ftfof.evaluate.fidelity import SimulatedForces, fidelity, simulated_objectives
+from ftfof.data.targets import time_base
+from ftfof.evaluate.fidelity import fidelity, simulated_objectives
 from ftfof.trajectory.sampling import sample_feasible
 
 
@@ -26,19 +26,29 @@ def test_constant_column_has_no_rank_correlation_and_shapes_are_checked():
         fidelity(["a", "b"], s, s)
 
 
-def test_simulated_objectives_bin_the_forces_like_the_dataset(m3f):
+def test_simulated_objectives_bin_the_channels_like_the_dataset(m3f):
     policy = m3f.policy
     X = sample_feasible(policy, 2, seed=1).X
     T3, hold = policy.timing.T3, 0.25
     t = np.arange(-0.2, T3 + 0.3, 1e-3)  # the platform records before and after the step
-    peak_t = np.array([0.3 * T3, 0.6 * T3])
-    forces = [
-        SimulatedForces(
-            t, 4.0 * np.exp(-(((t - p) / 0.02) ** 2)), 5.2 * np.exp(-(((t - T3) / 0.05) ** 2))
+    records = []
+    for p in (0.3 * T3, 0.6 * T3):
+        fz = 4.0 * np.exp(-(((t - p) / 0.02) ** 2)) - 5.2 * np.exp(-(((t - T3) / 0.05) ** 2))
+        records.append(
+            {
+                "t": t,
+                "Fx_pad": 3.0 * np.exp(-(((t - p) / 0.02) ** 2)),
+                "Fz_pad": fz,
+                "bonds": np.where(t < p + 0.05, 10.0, 0.0),
+                "switch": (t > p + 0.06).astype(float),
+                "body_acc": 1.0 + 20.0 * np.exp(-(((t - p - 0.05) / 0.005) ** 2)),
+            }
         )
-        for p in peak_t
-    ]
     force_t = time_base(T3, hold, 64)
-    F = simulated_objectives(["fs1", "fs3"], policy, X, forces, force_t, hold, pre_pressure=5.0)
-    np.testing.assert_allclose(F[:, 0], 4.0, rtol=1e-3)  # bin maxima keep the peak
-    np.testing.assert_allclose(F[:, 1], 0.2, atol=1e-3)
+    F = simulated_objectives(
+        ["fs1", "fs3", "fsj", "fs1_normal"], policy, X, records, force_t, hold, pre_pressure=5.0
+    )
+    np.testing.assert_allclose(F[:, 0], 5.0, rtol=1e-3)  # the resultant: bin maxima keep it
+    np.testing.assert_allclose(F[:, 1], 0.2, atol=1e-3)  # the landing pre-pressure
+    np.testing.assert_allclose(F[:, 2], 21.0, rtol=1e-3)  # the release ring
+    np.testing.assert_allclose(F[:, 3], 4.0, rtol=1e-3)

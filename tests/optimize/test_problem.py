@@ -1,5 +1,7 @@
 """The pymoo problem: one batched evaluation whose constraints agree with the policy."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -7,9 +9,15 @@ from ftfof.optimize.problem import TrajectoryProblem
 from ftfof.trajectory.sampling import sample_feasible
 
 
-def _problem(ctx, surrogate):
+def _problem(ctx, surrogate, objectives=None):
     robot = ctx.robot
-    return TrajectoryProblem(ctx.policy, surrogate, robot.objectives, robot.pre_pressure)
+    return TrajectoryProblem(
+        ctx.policy,
+        surrogate,
+        robot.objectives if objectives is None else objectives,
+        robot.pre_pressure,
+        robot.foot.film_min_bend_radius,
+    )
 
 
 @pytest.fixture(params=["m3f", "mst_q"])
@@ -30,19 +38,32 @@ def test_shapes_and_box(ctx, surrogate):
     assert out["F"].shape == (9, problem.n_obj) and out["G"].shape == (9, problem.n_ieq_constr)
     assert np.all(np.isfinite(out["F"])) and np.all(np.isfinite(out["G"]))
     result = problem.evaluate_population(free)
-    assert result.Fd.shape == result.Fp.shape == (9, surrogate.seq_len)
-    assert np.all(result.Fd >= 0) and np.all(result.Fp >= 0)
+    assert set(result.series) == set(surrogate.trained)
+    for series in result.series.values():
+        assert series.shape == (9, surrogate.seq_len) and np.all(series >= 0)
+    fc = ctx.robot.foot.film_min_bend_radius
+    np.testing.assert_allclose(result.film, fc * result.series["curvature"].max(axis=1) - 1)
+    np.testing.assert_allclose(out["G"][:, -1], result.film)  # film safety: the last column
+
+
+def test_an_untrained_film_target_is_no_constraint(m3f, surrogate):
+    untrained = dataclasses.replace(surrogate, trained=surrogate.trained[:-1])
+    problem = _problem(m3f, untrained)
+    assert not problem.film_constrained and problem.n_ieq_constr == len(problem.rules)
+    with pytest.raises(ValueError, match="curvature"):
+        untrained.predict(np.zeros((1, 32, 2)), np.zeros((1, 32, 2)), ["curvature"])
 
 
 def test_constraints_agree_with_the_policy(ctx, surrogate):
-    """Inside the box, G <= 0 exactly when the policy calls the trajectory feasible."""
+    """Inside the box, the rule columns of G are <= 0 exactly when the policy calls the
+    trajectory feasible (the last column is the predicted film safety)."""
     problem = _problem(ctx, surrogate)
     policy = ctx.policy
     feasible = policy.contract(sample_feasible(policy, 20, seed=5).X)
     rng = np.random.default_rng(1)
     random = policy.lower + rng.random((80, problem.n_var)) * (policy.upper - policy.lower)
     free = np.vstack([feasible, random])
-    G = problem.evaluate(free, return_as_dictionary=True)["G"]
+    G = problem.evaluate(free, return_as_dictionary=True)["G"][:, : len(problem.rules)]
     expected = policy.check(policy.expand(free)).feasible
     np.testing.assert_array_equal(np.all(G <= 0, axis=1), expected)
     assert expected[:20].all() and not expected[20:].all()
@@ -63,7 +84,5 @@ def test_objectives_follow_the_priority_order(m3f, surrogate):
     problem = _problem(m3f, surrogate)
     free = m3f.policy.contract(sample_feasible(m3f.policy, 4, seed=2).X)
     F = problem.evaluate_population(free).F
-    reversed_problem = TrajectoryProblem(
-        m3f.policy, surrogate, m3f.robot.objectives[::-1], m3f.robot.pre_pressure
-    )
+    reversed_problem = _problem(m3f, surrogate, m3f.robot.objectives[::-1])
     np.testing.assert_allclose(reversed_problem.evaluate_population(free).F, F[:, ::-1])

@@ -12,7 +12,14 @@ SETTINGS = SearchSettings(population=24, generations=12, seed=7, log_every=5)
 
 @pytest.fixture(scope="module")
 def problem(m3f, surrogate):
-    return TrajectoryProblem(m3f.policy, surrogate, m3f.robot.objectives, m3f.robot.pre_pressure)
+    robot = m3f.robot
+    return TrajectoryProblem(
+        m3f.policy,
+        surrogate,
+        robot.objectives,
+        robot.pre_pressure,
+        robot.foot.film_min_bend_radius,
+    )
 
 
 @pytest.fixture(scope="module")

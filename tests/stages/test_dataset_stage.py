@@ -47,13 +47,14 @@ def test_the_dataset_has_the_documented_schema_units_and_metadata(built):
     seq = json.loads(table.schema.metadata[dataset.METADATA_KEY])["seq_len"]
     assert table.schema.equals(dataset.schema(seq), check_metadata=False)
     units = {f.name: f.metadata[b"unit"].decode() for f in table.schema}
-    assert units["x"] == "m" and units["vz"] == "m/s" and units["Fd"] == "N" and units["t"] == "s"
+    assert units["x"] == "m" and units["vz"] == "m/s" and units["pull"] == "N" and units["t"] == "s"
     meta = json.loads(table.schema.metadata[dataset.METADATA_KEY])
     assert {"params_hash", "robot", "surface", "exudyn", "ftfof", "normalization"} <= set(meta)
     assert not {k for k in meta if "commit" in k or "run" in k}  # lineage lives in MLflow
     assert meta["robot"] == "mst_m3f" and meta["exudyn"] == "1.13.6"
     summary = json.loads((built / "ds.json").read_text())
     assert summary["excluded_failed"] == 2 and summary["baseline"] == 2
+    assert summary["targets_supplied"]["curvature"] == summary["samples"]  # fakes carry the film
     assert (built / "ds.png").stat().st_size > 10_000
 
 
@@ -152,8 +153,17 @@ def test_simulated_samples_exported_as_logs_and_imported_back_give_the_same_rows
     settings = params.dataset
     a, _ = dataset.build(simulated, settings, seed=0)
     b, _ = dataset.build(imp, settings, seed=0)
-    for name in ("x", "z", "vx", "vz", "Fd", "Fp"):
-        sa = np.stack(a.column(name).to_numpy(zero_copy_only=False))
-        sb = np.stack(b.column(name).to_numpy(zero_copy_only=False))
-        scale = np.abs(sa).max()
-        np.testing.assert_allclose(sb, sa, atol=1e-4 * scale, err_msg=name)
+
+    def series(table, name):
+        return np.stack(table.column(name).to_numpy(zero_copy_only=False))
+
+    for name in ("x", "z", "vx", "vz"):
+        sa, sb = series(a, name), series(b, name)
+        np.testing.assert_allclose(sb, sa, atol=1e-4 * np.abs(sa).max(), err_msg=name)
+    # A log has no switch: its windows end where the pull falls below 5 % of its peak, not at
+    # the switch, so the series differ at the window edges; the peaks the objectives read agree.
+    for name in ("pull", "Fd", "Fp"):
+        sa, sb = series(a, name).max(axis=1), series(b, name).max(axis=1)
+        np.testing.assert_allclose(sb, sa, rtol=1e-3, atol=1e-3, err_msg=name)
+    for name in ("body_acc", "curvature"):  # no IMU and no film channel in a force log
+        assert np.isnan(series(b, name)).all(), name

@@ -74,7 +74,7 @@ def test_front_and_optimum_are_written(optimized):
     assert accepted["ok"] and accepted["row"] == optimum["front_row"]
     assert accepted["measured"]["min_bend_radius"] >= limit
     assert all(not v["ok"] and v["reason"] for v in refused)
-    assert len(optimum["predicted"]["Fd"]) == len(optimum["predicted"]["t"])
+    assert len(optimum["predicted"]["pull"]) == len(optimum["predicted"]["t"])
     summary = json.loads((tmp / f"opt_{robot}_optimize.json").read_text())
     assert summary["generations"] == TINY["generations"] and summary["robot"] == robot
     csv = (tmp / f"opt_{robot}_convergence.csv").read_text().splitlines()
@@ -106,7 +106,7 @@ def test_optimum_is_feasible_for_an_independent_fine_check(optimized):
 
 
 def test_mlflow_run_links_the_surrogates_and_logs_convergence(optimized):
-    _, uri, _, _, robot = optimized
+    _, uri, data, _, robot = optimized
     import mlflow
 
     client = mlflow.MlflowClient(tracking_uri=uri)
@@ -126,10 +126,10 @@ def test_mlflow_run_links_the_surrogates_and_logs_convergence(optimized):
     assert run.data.tags["ftfof.surrogate_run"] == train.info.run_id
     assert train.info.run_id in run.data.tags["mlflow.note.content"]
     assert run.data.tags["mlflow.source.name"] == "optimize"
-    for target in ("Fd", "Fp"):  # the versions the search used, resolved by alias
-        version = client.get_model_version_by_alias(f"ftfof-{robot}-{target}-dilate", "champion")
-        expected = f"models:/ftfof-{robot}-{target}-dilate/{version.version}"
-        assert run.data.params[f"model.{target}"] == expected
+    # the version the search used, resolved by alias
+    use = data["train"]["use"]
+    version = client.get_model_version_by_alias(f"ftfof-{robot}-{use}", "champion")
+    assert run.data.params["model"] == f"models:/ftfof-{robot}-{use}/{version.version}"
 
 
 def test_an_alias_missing_from_the_registry_is_one_clear_error(trained):
@@ -139,7 +139,8 @@ def test_an_alias_missing_from_the_registry_is_one_clear_error(trained):
     data["train"] = {**data["train"], "alias": "nobody"}
     result, out = _optimize(tmp, uri, data, "opt_no_alias")
     assert result.exit_code != 0
-    assert "models:/ftfof-mst_m3f-Fd-dilate@nobody: not in the MLflow registry" in result.output
+    use = data["train"]["use"]
+    assert f"models:/ftfof-mst_m3f-{use}@nobody: not in the MLflow registry" in result.output
     assert not out.exists() and not (tmp / "opt_no_alias_optimize.json").exists()
 
 
@@ -150,7 +151,7 @@ def test_weights_that_differ_from_the_tracked_models_are_refused(trained, tmp_pa
     data = copy.deepcopy(data)
     data["optimize"] = {**data["optimize"], **TINY}
     shutil.copytree(tmp / "models", tmp_path / "models")
-    (tmp_path / "models" / "Fd_dilate.pt").write_bytes(b"not these weights")
+    (tmp_path / "models" / f"surrogate_{data['train']['use']}.pt").write_bytes(b"not these")
     result, out = _optimize(tmp_path, uri, data, "opt_stale")
     assert result.exit_code != 0
     assert "differs from" in result.output and "re-run `ftfof train`" in result.output

@@ -79,6 +79,11 @@ def test_unordered_timing_is_named(tmp_path, params_dict):
     assert "robots.mst_q.timing: must satisfy T1 < T2 < T3" in _error(tmp_path, params_dict)
 
 
+def test_a_use_loss_that_is_not_trained_is_named(tmp_path, params_dict):
+    params_dict["train"].update(losses=["mse"], use="dilate")
+    assert "train: use 'dilate' must be one of losses ['mse']" in _error(tmp_path, params_dict)
+
+
 def test_unknown_leg_type_is_named(tmp_path, params_dict):
     params_dict["robots"]["mst_q"]["leg"]["type"] = "hexapod"
     msg = _error(tmp_path, params_dict)

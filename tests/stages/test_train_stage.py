@@ -5,6 +5,7 @@ import json
 import pytest
 import torch
 
+from ftfof.data.targets import TARGETS
 from ftfof.surrogate.store import load_surrogate
 
 pytestmark = pytest.mark.integration
@@ -12,27 +13,32 @@ pytestmark = pytest.mark.integration
 
 def test_models_load_with_weights_only(trained):
     tmp, _, _ = trained
-    for target in ("Fd", "Fp"):
-        for loss in ("dilate", "mse"):
-            state = torch.load(tmp / "models" / f"{target}_{loss}.pt", weights_only=True)
-            assert "gru.weight_ih_l0" in state and "head.weight" in state
+    for loss in ("dilate", "mse"):
+        state = torch.load(tmp / "models" / f"surrogate_{loss}.pt", weights_only=True)
+        assert "gru.weight_ih_l0" in state and state["head.weight"].shape[0] == len(TARGETS)
     config = json.loads((tmp / "models" / "config.json").read_text())
-    assert config["use"] == "dilate" and config["seq_len"] == 24
+    assert config["use"] == "mse" and config["seq_len"] == 24  # params.yaml: train.use
+    assert config["trained"] == list(TARGETS)  # the fake acquisition carries the film channel
     surrogate = load_surrogate(tmp / "models")
-    assert surrogate.seq_len == 24
+    assert surrogate.seq_len == 24 and surrogate.trained == TARGETS
 
 
 def test_metrics_and_figures(trained):
     tmp, _, _ = trained
     metrics = json.loads((tmp / "models.json").read_text())
-    for name in ("Fd_dilate", "Fd_mse", "Fp_dilate", "Fp_mse"):
-        assert {
-            "mse",
-            "dtw",
-            "peak_error_median",
-            "peak_error_p90",
-            "peak_time_error_median",
-        } <= set(metrics[name])
+    for loss in ("dilate", "mse"):
+        m = metrics[loss]
+        assert m["epoch_cap"] == 2 and 0 <= m["best_epoch"] < m["epochs"] <= 2
+        assert set(m["targets"]) == set(TARGETS)
+        for target in TARGETS:
+            assert {
+                "n",
+                "mse",
+                "dtw",
+                "peak_error_median",
+                "peak_error_p90",
+                "peak_time_error_median",
+            } <= set(m["targets"][target])
     for png in ("models_loss.png", "models_pred.png"):
         assert (tmp / png).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
@@ -46,7 +52,7 @@ def test_mlflow_holds_the_parent_and_child_runs_with_params_metrics_models_and_t
     runs = client.search_runs([experiment.experiment_id])
     parent = [r for r in runs if r.info.run_name == "train"]
     children = [r for r in runs if r.data.tags.get("mlflow.parentRunId")]
-    assert len(parent) == 1 and len(children) == 4
+    assert len(parent) == 1 and len(children) == 2
     p = parent[0]
     for key in (
         "train.hidden",
@@ -66,32 +72,30 @@ def test_mlflow_holds_the_parent_and_child_runs_with_params_metrics_models_and_t
         assert child.data.params["train.epochs"] == str(data["train"]["epochs"])
         history = client.get_metric_history(child.info.run_id, "validation_loss")
         assert [m.step for m in history] == list(range(len(history))) and len(history) >= 1
-        assert {"val_mse", "val_dtw", "val_peak_error_median", "val_peak_time_error_median"} <= set(
-            child.data.metrics
-        )
+        want = {f"val_{t}_{m}" for t in TARGETS for m in ("mse", "dtw", "peak_error_median")}
+        assert want <= set(child.data.metrics)
     models = mlflow.search_logged_models(
         experiment_ids=[experiment.experiment_id], output_format="list"
     )
-    assert len(models) == 4
+    assert len(models) == 2
     loaded = mlflow.pytorch.load_model(f"models:/{models[0].model_id}")
-    assert loaded(torch.zeros(1, 24, 4)).shape == (1, 24, 1)
+    assert loaded(torch.zeros(1, 24, 4)).shape == (1, 24, len(TARGETS))
 
 
-def test_every_model_is_a_registered_version_and_the_used_pair_has_the_alias(trained):
+def test_every_model_is_a_registered_version_and_the_used_one_has_the_alias(trained):
     _, uri, data = trained
     import mlflow
 
     client = mlflow.MlflowClient(tracking_uri=uri)
     alias, use = data["train"]["alias"], data["train"]["use"]
-    for target in ("Fd", "Fp"):
-        for loss in data["train"]["losses"]:
-            name = f"ftfof-mst_m3f-{target}-{loss}"
-            (version,) = client.search_model_versions(f"name = '{name}'")
-            run = client.get_run(version.run_id)
-            assert run.data.tags["mlflow.source.name"] == "train"
-            assert run.data.params["loss"] == loss and run.data.params["target"] == target
-        champion = client.get_model_version_by_alias(f"ftfof-mst_m3f-{target}-{use}", alias)
-        assert client.get_run(champion.run_id).data.params["loss"] == use
+    for loss in data["train"]["losses"]:
+        name = f"ftfof-mst_m3f-{loss}"
+        (version,) = client.search_model_versions(f"name = '{name}'")
+        run = client.get_run(version.run_id)
+        assert run.data.tags["mlflow.source.name"] == "train"
+        assert run.data.params["loss"] == loss and run.data.params["targets"] == ",".join(TARGETS)
+    champion = client.get_model_version_by_alias(f"ftfof-mst_m3f-{use}", alias)
+    assert client.get_run(champion.run_id).data.params["loss"] == use
 
 
 def test_every_train_run_records_the_dataset_it_trained_on(trained):
@@ -104,7 +108,7 @@ def test_every_train_run_records_the_dataset_it_trained_on(trained):
     experiment = client.get_experiment_by_name("ftfof-mst_m3f")
     md5 = hashlib.md5((tmp / "ds" / "samples.parquet").read_bytes()).hexdigest()
     runs = client.search_runs([experiment.experiment_id], "tags.`dvc.stage` = 'train'")
-    assert len(runs) == 5  # the parent and its four children (other stages share the store)
+    assert len(runs) == 3  # the parent and its two children (other stages share the store)
     for run in runs:
         (entry,) = run.inputs.dataset_inputs
         assert entry.dataset.digest == md5

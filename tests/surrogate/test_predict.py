@@ -8,12 +8,12 @@ from ftfof.surrogate.model import ForceGRU, ModelConfig
 from ftfof.surrogate.predict import GRUWeights
 
 
-@pytest.mark.parametrize(("hidden", "layers"), [(8, 1), (16, 2)])
-def test_numpy_gru_matches_torch(hidden, layers):
+@pytest.mark.parametrize(("hidden", "layers", "outputs"), [(8, 1, 1), (16, 2, 6)])
+def test_numpy_gru_matches_torch(hidden, layers, outputs):
     torch.manual_seed(layers)
-    model = ForceGRU(ModelConfig(hidden=hidden, layers=layers)).eval()
+    model = ForceGRU(ModelConfig(hidden=hidden, layers=layers, outputs=outputs)).eval()
     x = torch.randn(7, 25, 4)
     with torch.no_grad():
-        expected = model(x)[..., 0].double().numpy()
+        expected = model(x).double().numpy()
     weights = GRUWeights.from_state({k: v.numpy() for k, v in model.state_dict().items()})
     np.testing.assert_allclose(weights(x.numpy()), expected, rtol=1e-5, atol=1e-6)

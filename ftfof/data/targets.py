@@ -1,0 +1,156 @@
+"""The surrogates' targets and their objectives, defined once, from an acquisition's channels.
+
+Every target is a series on the dataset's time base (``seq_len`` equal bins over [0, T3 + hold])
+computed from the full-rate channels (time from the trajectory start) inside its own window,
+0 outside it. The matching objective of the full-rate data is what the same objective function
+gives on the binned series, so a predicted and a simulated objective measure the same thing:
+
+- ``pull``: the foot's resultant pull on the pad |(Fx_pad, max(Fz_pad, 0))| while the pad holds
+  (t >= 0, bonds intact, before complete detachment); bin maximum -> fs1 = max, fs2 = mean up to
+  complete detachment (eq. 10-11 on the resultant, which shearing the pad off cannot escape).
+- ``Fd``: the tension alone, same window, bin maximum -> fs1_normal, fs2_normal (the paper's).
+- ``Fp``: the pre-pressure on the landing window (complete detachment -> end of the landing
+  hold), bin maximum -> fs3 = |max landing pre-pressure - a| (eq. 12).
+- ``jitter``: eq. 16 at the full rate on the detachment window (trajectory start -> complete
+  detachment + 20 ms): the exceedances ReLU(|z_i| - m) of the z-scored second derivative of the
+  pull, summed per bin. fs7 = the sum of the series, so the simulated fs7 is exactly eq. 16 at
+  the acquisition rate (<= 2 ms) and the surrogate predicts its density over time instead of a
+  second derivative of a coarse series.
+- ``body_acc``: the body acceleration on lift-off (first bond break) -> complete detachment +
+  50 ms, bin maximum -> fsj = max (the IMU jitter of FTFOF Table I, during detachment).
+- ``curvature``: the film's free-span curvature (t >= 0), bin maximum -> film safety
+  g = fc * max - 1 <= 0.
+
+Complete detachment is the photoelectric switch; a record without one (an imported log) takes
+eq. 11's rule on the pull: the first sample after its peak below 5 % of the peak. A target the
+record cannot supply (no IMU, no film channel, a force log coarser than 2 ms for the jitter)
+is all NaN: the training loss masks it out, nothing is invented.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ftfof.objectives import DETACHED_FRACTION, jitter_exceedance
+
+Array = NDArray[np.float64]
+
+TARGETS = ("pull", "Fd", "Fp", "jitter", "body_acc", "curvature")
+UNITS = {"pull": "N", "Fd": "N", "Fp": "N", "jitter": "", "body_acc": "m/s^2", "curvature": "1/m"}
+SUMMED = ("jitter",)  # binned by sum (a density); every other target by maximum
+JITTER_TAIL = 0.020  # s of fs7's window after complete detachment
+BODY_TAIL = 0.050  # s of fsj's window after complete detachment
+JITTER_MAX_STEP = 0.002  # s: a coarser record cannot give eq. 16's second derivative
+
+
+def edges(T3: float, hold: float, seq_len: int) -> Array:
+    return np.linspace(0.0, T3 + hold, seq_len + 1)
+
+
+def time_base(T3: float, hold: float, seq_len: int) -> Array:
+    """Bin centres of ``seq_len`` equal bins over [0, T3 + hold]."""
+    e = edges(T3, hold, seq_len)
+    return 0.5 * (e[:-1] + e[1:])
+
+
+def _bin_index(t: Array, e: Array) -> tuple[NDArray[np.bool_], NDArray[np.intp]]:
+    inside = (t >= e[0]) & (t <= e[-1])
+    idx = np.clip(np.searchsorted(e, t[inside], side="right") - 1, 0, len(e) - 2)
+    return inside, idx
+
+
+def bin_max(t: Array, values: Array, T3: float, hold: float, seq_len: int) -> Array:
+    """Maximum of ``values`` in each bin of [0, T3 + hold]; empty bins take the interpolation."""
+    e = edges(T3, hold, seq_len)
+    inside, idx = _bin_index(t, e)
+    out = np.full(seq_len, -np.inf)
+    np.maximum.at(out, idx, values[inside])
+    empty = ~np.isfinite(out)
+    if empty.any():
+        out[empty] = np.interp(0.5 * (e[:-1] + e[1:])[empty], t, values)
+    return out
+
+
+def bin_sum(t: Array, values: Array, T3: float, hold: float, seq_len: int) -> Array:
+    """Sum of ``values`` in each bin of [0, T3 + hold] (a density: empty bins hold 0)."""
+    inside, idx = _bin_index(t, edges(T3, hold, seq_len))
+    return np.bincount(idx, weights=values[inside], minlength=seq_len).astype(float)
+
+
+def pull_force(fx: Array, fz: Array) -> Array:
+    """|(Fx, max(Fz, 0))|; a missing tangential channel (NaN) leaves the tension alone."""
+    tension = np.maximum(fz, 0.0)
+    return tension if not np.isfinite(fx).all() else np.hypot(fx, tension)
+
+
+def detachment_time(t: Array, switch: Array, pull: Array, T3: float) -> float:
+    """Complete detachment: the switch, else the first sample after the pull's peak (within the
+    trajectory) below 5 % of the peak, else T3."""
+    on = np.flatnonzero(np.nan_to_num(switch, nan=0.0) > 0)
+    if on.size:
+        return float(t[on[0]])
+    during = np.flatnonzero((t >= 0) & (t <= T3))
+    if during.size == 0:
+        return T3
+    f = pull[during]
+    peak_at = int(np.argmax(f))
+    below = np.flatnonzero(f[peak_at:] < DETACHED_FRACTION * f[peak_at])
+    return float(t[during[peak_at + below[0]]]) if below.size and f[peak_at] > 0 else T3
+
+
+def lift_off_time(t: Array, bonds: Array) -> float:
+    """The first bond break after the trajectory starts (0 when unknown or never)."""
+    during = np.flatnonzero(t >= 0)
+    if during.size == 0 or not np.isfinite(bonds[during]).all():
+        return 0.0
+    broke = np.flatnonzero(bonds[during] < bonds[during[0]])
+    return float(t[during[broke[0]]]) if broke.size else 0.0
+
+
+def full_rate(channels: Mapping[str, Array], T3: float) -> dict[str, Array]:
+    """Every target at the acquisition rate, 0 outside its window, all NaN if not supplied."""
+    t = np.asarray(channels["t"], dtype=float)
+    nan = np.full_like(t, np.nan)
+    fx = np.asarray(channels["Fx_pad"], dtype=float)
+    fz = np.asarray(channels["Fz_pad"], dtype=float)
+    bonds = np.asarray(channels.get("bonds", nan), dtype=float)
+    pull_all = pull_force(fx, fz)
+    detached = detachment_time(t, np.asarray(channels.get("switch", nan), float), pull_all, T3)
+    holding = (t >= 0) & (t <= detached) & ~(bonds <= 0)
+    jitter_window = (t >= 0) & (t <= detached + JITTER_TAIL)
+    jitter = np.zeros_like(t)
+    step = float(np.median(np.diff(t))) if t.size > 1 else np.inf
+    if step <= JITTER_MAX_STEP and jitter_window.sum() >= 3:
+        jitter[jitter_window] = jitter_exceedance(pull_all[jitter_window], step)
+    else:
+        jitter = nan
+    body = np.asarray(channels.get("body_acc", nan), dtype=float)
+    body_window = (t >= lift_off_time(t, bonds)) & (t <= detached + BODY_TAIL)
+    curvature = np.asarray(channels.get("film_curvature", nan), dtype=float)
+    if curvature.size != t.size:  # an acquisition without the film channel
+        curvature = nan
+    return {
+        "pull": np.where(holding, pull_all, 0.0),
+        "Fd": np.where(holding, np.maximum(fz, 0.0), 0.0),
+        "Fp": np.where(t >= detached, np.maximum(-fz, 0.0), 0.0),
+        "jitter": jitter,
+        "body_acc": np.where(body_window, body, 0.0) if np.isfinite(body).all() else nan,
+        "curvature": np.where(t >= 0, curvature, 0.0) if np.isfinite(curvature).all() else nan,
+    }
+
+
+def binned(channels: Mapping[str, Array], T3: float, hold: float, seq_len: int) -> dict[str, Array]:
+    """Every target on the dataset time base: (seq_len,) each, all NaN where not supplied."""
+    t = np.asarray(channels["t"], dtype=float)
+    out = {}
+    for name, values in full_rate(channels, T3).items():
+        if not np.isfinite(values).all():
+            out[name] = np.full(seq_len, np.nan)
+        elif name in SUMMED:
+            out[name] = bin_sum(t, values, T3, hold, seq_len)
+        else:
+            out[name] = bin_max(t, values, T3, hold, seq_len)
+    return out

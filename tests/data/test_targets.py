@@ -1,0 +1,81 @@
+"""Target series: each on its window, binned so the objectives read the full-rate values."""
+
+import numpy as np
+import pytest
+
+from ftfof.data import targets
+from ftfof.objectives import JITTER_SIGMAS, jitter_exceedance
+from tests.data.fake import SWITCH, fake_channels, film_curvature
+
+T3, HOLD, N = 1.0, 0.1, 100
+
+
+def test_bin_max_keeps_a_narrow_peak_that_interpolation_would_miss():
+    t = np.arange(0.0, 1.0, 1e-3)
+    f = np.where(np.abs(t - 0.3004) < 1e-3, 7.0, 0.1)
+    assert targets.bin_max(t, f, 0.9, 0.1, 32).max() == 7.0
+    assert np.interp(targets.time_base(0.9, 0.1, 32), t, f).max() < 7.0
+
+
+def test_pull_is_the_resultant_while_the_pad_holds():
+    ch = fake_channels(4.0)
+    s = targets.binned(ch, T3, HOLD, N)
+    assert s["pull"].max() == pytest.approx(4.0 * np.hypot(1.0, 0.4), rel=1e-6)
+    assert s["Fd"].max() == pytest.approx(4.0, rel=1e-6)
+    after = targets.time_base(T3, HOLD, N) > 0.15 + 0.011  # bonds all broken at 0.15 s
+    assert np.all(s["pull"][after] == 0) and np.all(s["Fd"][after] == 0)
+
+
+def test_pre_pressure_is_the_landing_not_the_held_initial_press():
+    ch = fake_channels(4.0)
+    t = ch["t"]
+    ch["Fz_pad"] = np.where(t < 0.03, -5.0, ch["Fz_pad"])  # the press still held after t = 0
+    ch["Fz_pad"] = np.where(t > 0.9, -4.2 * np.exp(-((t - 1.0) ** 2) / 1e-3), ch["Fz_pad"])
+    s = targets.binned(ch, T3, HOLD, N)
+    assert s["Fp"].max() == pytest.approx(4.2, rel=1e-3)
+    assert np.all(s["Fp"][targets.time_base(T3, HOLD, N) < SWITCH] == 0)
+
+
+def test_jitter_sums_to_eq16_on_the_detachment_window_at_the_full_rate():
+    ch = fake_channels(4.0)
+    t = ch["t"]
+    ch["Fz_pad"] = ch["Fz_pad"] + 0.3 * ((t > 0.05) & (t < 0.052))  # a step: a jerk in F''
+    s = targets.binned(ch, T3, HOLD, N)
+    window = (t >= 0) & (t <= SWITCH + targets.JITTER_TAIL)
+    pull = np.hypot(ch["Fx_pad"], np.maximum(ch["Fz_pad"], 0))[window]
+    expected = jitter_exceedance(pull, 1e-3, JITTER_SIGMAS).sum()
+    assert expected > 1.0
+    assert s["jitter"].sum() == pytest.approx(expected, rel=1e-9)
+    assert np.all(s["jitter"][targets.time_base(T3, HOLD, N) > SWITCH + 0.03] == 0)
+
+
+def test_a_coarse_record_supplies_no_jitter():
+    ch = {k: v[::3] for k, v in fake_channels(4.0).items()}  # 3 ms
+    assert np.isnan(targets.binned(ch, T3, HOLD, N)["jitter"]).all()
+
+
+def test_body_jitter_counts_the_release_not_the_landing():
+    ch = fake_channels(4.0)
+    t = ch["t"]
+    ch["body_acc"] = ch["body_acc"] + 100.0 * (np.abs(t - 1.0) < 0.005)  # landing impact
+    s = targets.binned(ch, T3, HOLD, N)
+    assert s["body_acc"].max() == pytest.approx(2.0 + 12.0, rel=1e-3)  # ring at 0.15 s
+    assert np.all(s["body_acc"][targets.time_base(T3, HOLD, N) > SWITCH + 0.06] == 0)
+
+
+def test_film_curvature_is_binned_by_maximum_and_absent_without_the_channel():
+    ch = fake_channels(3.0)
+    assert np.isnan(targets.binned(ch, T3, HOLD, N)["curvature"]).all()
+    ch["film_curvature"] = film_curvature(ch["t"], 3.0)
+    assert targets.binned(ch, T3, HOLD, N)["curvature"].max() == pytest.approx(100.0, rel=1e-6)
+
+
+def test_a_force_log_supplies_the_forces_only():
+    ch = fake_channels(4.0)
+    nan = np.full_like(ch["t"], np.nan)
+    ch.update(Fx_pad=nan, body_acc=nan, bonds=nan, switch=nan)
+    s = targets.binned(ch, T3, HOLD, N)
+    assert s["pull"].max() == pytest.approx(4.0, rel=1e-6)  # tension only
+    assert np.isnan(s["body_acc"]).all() and np.isnan(s["curvature"]).all()
+    assert s["Fp"].max() == pytest.approx(5.0, rel=1e-3)  # detachment by eq. 11's 5 % rule
+    assert np.isfinite(s["jitter"]).all()

@@ -37,8 +37,18 @@ UNITS = {
     "film_curvature": "1/m",
     **tg.UNITS,
 }
-CHANNELS = ("t", "x_cmd", "z_cmd", "Fx_pad", "Fz_pad", "body_acc", "bonds", "switch")
-OPTIONAL_CHANNELS = ("film_curvature",)  # absent from older acquisitions: its target is NaN
+# film_curvature is NaN where a record does not see the film (a force log): its target is masked
+CHANNELS = (
+    "t",
+    "x_cmd",
+    "z_cmd",
+    "Fx_pad",
+    "Fz_pad",
+    "body_acc",
+    "bonds",
+    "switch",
+    "film_curvature",
+)
 METADATA_KEY = b"ftfof"
 
 
@@ -140,15 +150,14 @@ def build(
         "peak_body_acc",
     ]
     cols = ok.select(scalar_names).to_pydict()
-    names = CHANNELS + tuple(c for c in OPTIONAL_CHANNELS if c in ok.column_names)
-    series = {c: list_column(ok, c) for c in names}
+    series = {c: list_column(ok, c) for c in CHANNELS}
     n = ok.num_rows
     seqs = {name: np.empty((n, settings.seq_len)) for name in ("t", *INPUTS, *TARGETS)}
     for i in range(n):  # once per dataset build, not a hot path
         t = series["t"][i]
         if t.size < 2 or np.any(np.diff(t) <= 0):
             raise DataError(cols["key"][i], "series time is not strictly increasing")
-        channels = {c: series[c][i] for c in names}
+        channels = {c: series[c][i] for c in CHANNELS}
         s = resample(channels, cols["T3"][i], settings.hold, settings.seq_len)
         for name, values in s.items():
             seqs[name][i] = values

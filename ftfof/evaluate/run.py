@@ -14,7 +14,7 @@ import numpy as np
 import pandas as pd
 
 from ftfof.config import Params
-from ftfof.data.dataset import CHANNELS, OPTIONAL_CHANNELS
+from ftfof.data.dataset import CHANNELS
 from ftfof.errors import SimulationError
 from ftfof.evaluate.export import ControllerTrajectory, ExportRateError, controller_trajectory
 from ftfof.evaluate.fidelity import Fidelity, fidelity, simulated_objectives
@@ -95,8 +95,7 @@ def table_rows(df: pd.DataFrame, reference: str) -> list[TableRow]:
 
 def channels(row: pd.Series) -> dict[str, np.ndarray]:
     """The full-rate channels the surrogate's targets are made of, as float arrays."""
-    names = [*CHANNELS, *(c for c in OPTIONAL_CHANNELS if c in row.index)]
-    return {c: np.asarray(row[c], dtype=float) for c in names}
+    return {c: np.asarray(row[c], dtype=float) for c in CHANNELS}
 
 
 def fidelity_of(

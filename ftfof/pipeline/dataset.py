@@ -11,12 +11,10 @@ from typing import Any
 
 import numpy as np
 import pyarrow as pa
-import pyarrow.parquet as pq
 
 from ftfof.config import Params
 from ftfof.data import dataset
 from ftfof.data.acquisition import ACQUISITION
-from ftfof.data.schema import field
 from ftfof.errors import DataError
 from ftfof.pipeline.digests import json_sha256
 from ftfof.pipeline.io import read_table
@@ -31,28 +29,14 @@ class Dataset:
     figure: Any  # a few samples (matplotlib)
 
 
-def read_acquisition(path: Path, what: str) -> pa.Table:
-    """An acquisition table, with the optional channels it carries (e.g. the film's curvature)."""
-    schema = ACQUISITION
-    try:
-        present = pq.read_schema(path).names
-    except (pa.ArrowException, OSError):  # read_table names the problem
-        present = []
-    for name in dataset.OPTIONAL_CHANNELS:
-        if name in present and name not in schema.names:
-            unit = dataset.UNITS.get(name, "")
-            schema = schema.append(field(name, pa.list_(pa.float32()), unit, f"series {name}"))
-    return read_table(path, schema, what)
-
-
 def build(params: Params, acquisition: Path, imported: Path) -> Dataset:
     """Resample every ok sample, split and normalise on train; a duplicate key is an error."""
     from ftfof.report.figures import dataset_figure
 
-    tables = [read_acquisition(acquisition / "samples.parquet", "acquisition")]
+    tables = [read_table(acquisition / "samples.parquet", ACQUISITION, "acquisition")]
     for path in sorted(imported.glob("*.parquet")) if imported.exists() else []:
-        tables.append(read_acquisition(path, "imported log"))
-    table = pa.concat_tables(tables, promote_options="default")  # optional channels -> null
+        tables.append(read_table(path, ACQUISITION, "imported log"))
+    table = pa.concat_tables(tables)
     keys = table.column("key").to_pylist()
     if dup := [k for k, c in Counter(keys).items() if c > 1]:
         raise DataError("dataset", f"sample {dup[0]!r} appears twice (imported twice?)")

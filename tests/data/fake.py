@@ -2,7 +2,7 @@
 
 A fake sample presses with 5 N, peels with a Gaussian pull of ``peak`` (normal) and 0.4 of it in
 shear, loses its bonds over the pull, trips the switch at 0.2 s, rings the body on release and
-lands at 1.05 s; ``with_film`` adds the film's curvature channel.
+lands at 1.05 s; its film bends with the pull (NaN ``with_film=False``: a force log).
 """
 
 from __future__ import annotations
@@ -16,7 +16,12 @@ from ftfof.sim.records import CHANNELS, SampleResult
 SWITCH = 0.2  # s
 
 
-def fake_channels(peak: float) -> dict[str, np.ndarray]:
+def film_curvature(t: np.ndarray, peak: float) -> np.ndarray:
+    """1/m: a bend that tightens with the pull (peak 3 N -> radius 10 mm)."""
+    return (peak / 3.0) * 100.0 * np.exp(-((t - 0.12) ** 2) / 1e-3)
+
+
+def fake_channels(peak: float, with_film: bool = True) -> dict[str, np.ndarray]:
     t = np.arange(-0.25, 1.25, 1e-3)
     tt = np.clip(t, 0, 1)
     x = 0.12 * (10 * tt**3 - 15 * tt**4 + 6 * tt**5)
@@ -42,38 +47,30 @@ def fake_channels(peak: float) -> dict[str, np.ndarray]:
         body_acc=2.0 + ring,
         bonds=bonds,
         switch=(t >= SWITCH).astype(float),
+        film_curvature=film_curvature(t, peak) if with_film else np.full_like(t, np.nan),
     )
     return ch
 
 
 def fake_result(
-    key: str, source: str, sample_id: int, peak: float, status: str = "ok"
+    key: str, source: str, sample_id: int, peak: float, status: str = "ok", with_film: bool = True
 ) -> SampleResult:
-    ch = fake_channels(peak)
+    ch = fake_channels(peak, with_film)
     r = SampleResult(key, source, sample_id, status, "" if status == "ok" else "boom", 0.1, ch)
     r.scalars = {"peak_detachment": float(ch["Fd"].max()), "peak_pre_pressure": 5.0}
     return r
 
 
-def film_curvature(t: np.ndarray, peak: float) -> np.ndarray:
-    """1/m: a bend that tightens with the pull (peak 3 N -> radius 10 mm)."""
-    return (peak / 3.0) * 100.0 * np.exp(-((t - 0.12) ** 2) / 1e-3)
-
-
 def fake_acquisition(n: int = 40, failed: int = 2, with_film: bool = True) -> pa.Table:
     peaks = [3 + i % 5 for i in range(n)]
-    results = [fake_result(f"sampled:{i}", "sampled", i, p) for i, p in enumerate(peaks)]
+    results = [
+        fake_result(f"sampled:{i}", "sampled", i, p, with_film=with_film)
+        for i, p in enumerate(peaks)
+    ]
     results += [
         fake_result(f"sampled:{n + i}", "sampled", n + i, 1.0, "failed") for i in range(failed)
     ]
     results += [
         fake_result(f"baseline:{b}:0", f"baseline:{b}", 0, 7.0) for b in ("polynomial", "cycloidal")
     ]
-    table = to_table(results, "mst_m3f", "acrylic", {}, 1.0, with_wall_time=False)
-    if not with_film:
-        return table
-    curvature = [
-        film_curvature(r.channels["t"], p).astype(np.float32)
-        for r, p in zip(results, [*peaks, *[1.0] * failed, 7.0, 7.0], strict=True)
-    ]
-    return table.append_column("film_curvature", pa.array(curvature, pa.list_(pa.float32())))
+    return to_table(results, "mst_m3f", "acrylic", {}, 1.0, with_wall_time=False)

@@ -63,8 +63,8 @@ def test_body_jitter_counts_the_release_not_the_landing():
     assert np.all(s["body_acc"][targets.time_base(T3, HOLD, N) > SWITCH + 0.06] == 0)
 
 
-def test_film_curvature_is_binned_by_maximum_and_absent_without_the_channel():
-    ch = fake_channels(3.0)
+def test_film_curvature_is_binned_by_maximum_and_masked_where_unseen():
+    ch = fake_channels(3.0, with_film=False)
     assert np.isnan(targets.binned(ch, T3, HOLD, N)["curvature"]).all()
     ch["film_curvature"] = film_curvature(ch["t"], 3.0)
     assert targets.binned(ch, T3, HOLD, N)["curvature"].max() == pytest.approx(100.0, rel=1e-6)
@@ -73,7 +73,7 @@ def test_film_curvature_is_binned_by_maximum_and_absent_without_the_channel():
 def test_a_force_log_supplies_the_forces_only():
     ch = fake_channels(4.0)
     nan = np.full_like(ch["t"], np.nan)
-    ch.update(Fx_pad=nan, body_acc=nan, bonds=nan, switch=nan)
+    ch.update(Fx_pad=nan, body_acc=nan, bonds=nan, switch=nan, film_curvature=nan)
     s = targets.binned(ch, T3, HOLD, N)
     assert s["pull"].max() == pytest.approx(4.0, rel=1e-6)  # tension only
     assert np.isnan(s["body_acc"]).all() and np.isnan(s["curvature"]).all()

@@ -54,7 +54,14 @@ def test_every_stage_wrote_its_outputs(repo):
     order = ["polynomial", "cycloidal", "random_bezier", "eps_bezier", "paper_optimum", "optimum"]
     assert set(metrics["table"]) == set(order)
     for row in metrics["table"].values():
-        for column in ("peak_pull", "peak_normal", "peak_shear", "peak_pre_pressure"):
+        for column in (
+            "peak_pull",
+            "peak_normal",
+            "peak_shear",
+            "peak_pre_pressure",
+            "jitter",
+            "landing_pre_pressure",
+        ):
             assert column in row and f"{column}_change" in row
         assert "peak_body_acc" in row and "min_bend_radius_change" in row
     html = (repo / "reports/evaluate.html").read_text()

@@ -14,6 +14,7 @@ import numpy as np
 import pandas as pd
 
 from ftfof.config import Params
+from ftfof.data import targets
 from ftfof.data.dataset import CHANNELS
 from ftfof.errors import SimulationError
 from ftfof.evaluate.export import ControllerTrajectory, ExportRateError, controller_trajectory
@@ -21,6 +22,7 @@ from ftfof.evaluate.fidelity import Fidelity, fidelity, simulated_objectives
 from ftfof.evaluate.table import COLUMNS, PAPER_TABLE_I, PEAKS, TableRow, table_one
 from ftfof.kinematics.legs import build_leg
 from ftfof.robot import RobotContext
+from ftfof.sim.film import FilmLimit, film_limit
 from ftfof.surrogate.predict import Surrogate
 from ftfof.trajectory.bezier import DECISION_NAMES
 
@@ -84,13 +86,48 @@ def compared(df: pd.DataFrame, reference: str) -> dict[str, pd.Series]:
     return {s.removeprefix("baseline:"): df[df.source == s].iloc[0] for s in sources}
 
 
-def table_rows(df: pd.DataFrame, reference: str) -> list[TableRow]:
+def figures_of(row: pd.Series, T3: float) -> dict[str, float]:
+    """One simulation's Table I figures: the acquisition's scalars and the detachment jitter."""
+    out = {c: float(row[c]) for c, _, _ in COLUMNS if c != "jitter"}
+    out["jitter"] = float(np.max(targets.full_rate(channels(row), T3)["body_acc"]))
+    return out
+
+
+def table_rows(df: pd.DataFrame, reference: str, T3: float) -> list[TableRow]:
     """The Table I analogue, with the foot's pull and film figures, against ``reference``."""
-    peaks = {
-        name: {c: float(row[c]) for c, _, _ in COLUMNS}
-        for name, row in compared(df, reference).items()
-    }
+    peaks = {name: figures_of(row, T3) for name, row in compared(df, reference).items()}
     return table_one(peaks, reference, COLUMNS)
+
+
+def front_members(df: pd.DataFrame, T3: float, pre_pressure: float, film: FilmLimit) -> dict:
+    """The re-simulated optimum and front members side by side: what each trades (pull, jitter,
+    landing press) and whether its film survives, so the choice can be judged in simulation."""
+    sims = df[df.source.isin([OPTIMUM, "front"])]
+    sims = sims.assign(first=sims.source != OPTIMUM).sort_values(["first", "sample_id"])
+    members = []
+    for _, row in sims.iterrows():  # a few tens of rows, once per evaluation
+        f = figures_of(row, T3)
+        members.append(
+            {
+                "row": int(row.sample_id),
+                "optimum": row.source == OPTIMUM,
+                "peak_pull": round(f["peak_pull"], 4),
+                "jitter": round(f["jitter"], 4),
+                "landing_pre_pressure_error": round(
+                    abs(f["landing_pre_pressure"] - pre_pressure), 4
+                ),
+                "min_bend_radius": round(f["min_bend_radius"], 6),
+                "film_safe": bool(f["min_bend_radius"] >= film.radius),
+            }
+        )
+    safe = [m["film_safe"] for m in members]
+    return {
+        "members": members,
+        "film_safe_fraction": round(float(np.mean(safe)), 4) if safe else None,
+        "film_limit": {
+            k: round(v, 6) if isinstance(v, float) else v for k, v in film.as_dict().items()
+        },
+    }
 
 
 def channels(row: pd.Series) -> dict[str, np.ndarray]:
@@ -137,6 +174,7 @@ def metrics(
     fid: list[Fidelity],
     controller: ControllerTrajectory,
     n_fidelity: int,
+    front: dict[str, Any],
 ) -> dict[str, Any]:
     """The stage's metrics: Table I changes, the paper's, fidelity and the export."""
 
@@ -156,6 +194,7 @@ def metrics(
         "paper_optimal_change_vs_polynomial": {c: round(paper.change[c], 2) for c, _, _ in PEAKS},
         "fidelity": {f.objective: f.as_dict() for f in fid},
         "fidelity_points": n_fidelity,
+        "front_simulated": front,
         "optimum_front_row": inputs.optimum["front_row"],
         "export": {
             "rows": int(controller.table.shape[0]),
@@ -211,7 +250,15 @@ def context(
         "optimum_row": inputs.optimum["front_row"],
         "front_size": len(inputs.front),
         "reference": params.evaluate.reference,
-        "columns": [{"key": c, "label": label, "unit": unit} for c, label, unit in COLUMNS],
+        "columns": [
+            {
+                "key": c,
+                "label": label,
+                **({"unit": "mm", "scale": 1e3} if unit == "m" else {"unit": unit, "scale": 1.0}),
+            }
+            for c, label, unit in COLUMNS
+        ],
+        "front_simulated": summary["front_simulated"],
         "paper_columns": [{"key": c, "label": label} for c, label, _ in PEAKS],
         "table": [
             {"trajectory": r.trajectory, "values": r.values, "change": r.change} for r in rows
@@ -253,10 +300,13 @@ def evaluate(
     """Everything the report shows, from the re-simulations of the optimum, front and baselines."""
     cfg = params.evaluate
     table = ok_rows(simulations, cfg.reference)
-    rows = table_rows(table, cfg.reference)
+    T3 = ctx.policy.timing.T3
+    rows = table_rows(table, cfg.reference, T3)
+    film = film_limit(ctx.robot, params.selected_surface)
+    front = front_members(table, T3, ctx.robot.pre_pressure, film)
     fid, predicted, simulated = fidelity_of(inputs, table, ctx, surrogate)
     controller = export(ctx, inputs, cfg.export_rate_hz)
-    summary = metrics(params, inputs, rows, fid, controller, len(predicted))
+    summary = metrics(params, inputs, rows, fid, controller, len(predicted), front)
     figures = simulation_figures(table, predicted, simulated, inputs.objectives, cfg.reference)
     values = context(params, ctx, inputs, rows, fid, summary, predicted, simulated)
     return Evaluation(summary, values, figures, controller)

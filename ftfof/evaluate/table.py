@@ -20,10 +20,14 @@ PEAKS: tuple[Column, ...] = (
 )
 # What the paper's table does not show but a robot engineer checks: how the pad is pulled off
 # (resultant, normal, shear, while it holds) and how tightly the film is bent.
+# ``jitter`` is the paper's IMU jitter taken where the paper takes it, during detachment (lift-off
+# -> complete detachment + 50 ms: fsj), not over press, swing and landing like peak_body_acc.
 FOOT: tuple[Column, ...] = (
     ("peak_pull", "max pull (resultant)", "N"),
     ("peak_normal", "max normal pull", "N"),
     ("peak_shear", "max shear", "N"),
+    ("jitter", "body jitter in detachment", "m/s²"),
+    ("landing_pre_pressure", "landing pre-pressure", "N"),
     ("min_bend_radius", "min film bend radius", "m"),
 )
 COLUMNS: tuple[Column, ...] = PEAKS + FOOT

@@ -4,6 +4,7 @@ the metadata (params digest, code versions, normalisation) that the surrogates a
 from __future__ import annotations
 
 import json
+import time
 from collections import Counter
 from dataclasses import dataclass
 from pathlib import Path
@@ -33,6 +34,7 @@ def build(params: Params, acquisition: Path, imported: Path) -> Dataset:
     """Resample every ok sample, split and normalise on train; a duplicate key is an error."""
     from ftfof.report.figures import dataset_figure
 
+    started = time.perf_counter()
     tables = [read_table(acquisition / "samples.parquet", ACQUISITION, "acquisition")]
     for path in sorted(imported.glob("*.parquet")) if imported.exists() else []:
         tables.append(read_table(path, ACQUISITION, "imported log"))
@@ -57,6 +59,7 @@ def build(params: Params, acquisition: Path, imported: Path) -> Dataset:
     built = built.replace_schema_metadata({dataset.METADATA_KEY: json.dumps(meta, sort_keys=True)})
     splits = built.column("split").to_pylist()
     summary = {
+        "seconds": round(time.perf_counter() - started, 2),  # the stage's time (not hashed)
         "samples": built.num_rows,
         "excluded_failed": table.num_rows - built.num_rows,
         "train": splits.count("train"),

@@ -4,6 +4,7 @@ write the report, and track it in MLflow linked to the optimize run."""
 from __future__ import annotations
 
 import json
+import time
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -48,6 +49,7 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
     from ftfof.report.html import render
     from ftfof.surrogate.store import load_surrogate
 
+    started = time.perf_counter()
     ctx = robot_context(params)
     inputs = read_inputs(paths.optimize, ctx.name)
     if inputs.optimum["models_digest"] != models_digest(paths.models):
@@ -76,6 +78,7 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
     with atomic_path(paths.export) as tmp:
         header = ",".join(controller.columns)
         np.savetxt(tmp, controller.table, delimiter=",", header=header, comments="", fmt="%.9g")
+    result.summary["seconds"] = round(time.perf_counter() - started, 2)  # the stage's time
     write_json(paths.metrics, result.summary)
     with atomic_path(paths.report) as tmp:
         tmp.write_text(html, encoding="utf-8")

@@ -5,15 +5,27 @@ from __future__ import annotations
 import pandas as pd
 import pytest
 
+from ftfof.data.dataset import CHANNELS
 from ftfof.errors import SimulationError
 from ftfof.evaluate.run import (
     OPTIMUM,
     PAPER_OPTIMUM,
     Inputs,
+    front_members,
     front_sample,
     ok_rows,
     table_rows,
 )
+from ftfof.sim.film import FilmLimit
+from tests.data.fake import fake_channels
+
+T3 = 1.0  # the fake samples' trajectory time
+
+
+def _with_channels(frame: pd.DataFrame, pulls: list[float]) -> pd.DataFrame:
+    """Full-rate channels per row: a fake sample whose pull (and release ringing) is ``pulls``."""
+    series = [fake_channels(p) for p in pulls]
+    return frame.assign(**{c: [ch[c] for ch in series] for c in CHANNELS})
 
 
 def _inputs(n: int, chosen: int, infeasible: tuple[int, ...] = ()) -> Inputs:
@@ -35,7 +47,8 @@ def test_front_sample_spreads_over_passing_rows_and_leaves_out_the_optimum():
 def _simulations(status: str = "ok") -> pd.DataFrame:
     peaks = {"peak_detachment": [2.0, 1.0], "peak_pre_pressure": [4.0, 2.0]}
     foot = {c: [1.0, 1.0] for c in ("peak_pull", "peak_normal", "peak_shear", "min_bend_radius")}
-    return pd.DataFrame(
+    foot["landing_pre_pressure"] = [5.0, 5.0]
+    frame = pd.DataFrame(
         {
             "source": ["baseline:polynomial", OPTIMUM],
             "status": ["ok", status],
@@ -45,6 +58,7 @@ def _simulations(status: str = "ok") -> pd.DataFrame:
             **foot,
         }
     )
+    return _with_channels(frame, [4.0, 2.0])
 
 
 def test_ok_rows_names_a_failed_optimum():
@@ -56,15 +70,33 @@ def test_ok_rows_names_a_failed_optimum():
 
 def test_table_rows_compare_the_optimum_with_the_reference():
     rows = {
-        r.trajectory: r for r in table_rows(ok_rows(_simulations(), "polynomial"), "polynomial")
+        r.trajectory: r for r in table_rows(ok_rows(_simulations(), "polynomial"), "polynomial", T3)
     }
     assert list(rows) == ["polynomial", OPTIMUM]
     assert rows[OPTIMUM].change["peak_detachment"] == pytest.approx(-50.0)
     assert rows["polynomial"].change["peak_pre_pressure"] == 0
+    # the detachment-window jitter: the release ringing (3x the pull, on a 2 m/s² floor)
+    assert rows["polynomial"].values["jitter"] == pytest.approx(2.0 + 12.0, rel=1e-3)
+    assert rows[OPTIMUM].change["jitter"] == pytest.approx(100 * (8.0 - 14.0) / 14.0, rel=1e-3)
+
+
+def test_front_members_show_each_trade_and_the_film_verdict():
+    sims = _simulations().assign(source=[OPTIMUM, "front"], sample_id=[7, 3])
+    sims["min_bend_radius"] = [0.0025, 0.0012]
+    sims["landing_pre_pressure"] = [5.5, 4.0]
+    out = front_members(sims, T3, 5.0, FilmLimit(fc=0.006, peel_root=0.002, fraction=0.75))
+    first, other = out["members"]
+    assert first["optimum"] and first["row"] == 7 and first["film_safe"]
+    assert other["row"] == 3 and not other["film_safe"]
+    assert other["landing_pre_pressure_error"] == pytest.approx(1.0)
+    assert out["film_safe_fraction"] == 0.5 and out["film_limit"]["limit"] == 0.0015
 
 
 def test_the_table_lists_the_reference_then_baselines_then_the_paper_optimum_then_ours():
-    figures = {c: [1.0] * 4 for c in ("peak_pre_pressure", "peak_body_acc", "peak_normal")}
+    figures = {
+        c: [1.0] * 4
+        for c in ("peak_pre_pressure", "peak_body_acc", "peak_normal", "landing_pre_pressure")
+    }
     sims = pd.DataFrame(
         {
             "source": [OPTIMUM, PAPER_OPTIMUM, "baseline:cycloidal", "baseline:polynomial"],
@@ -77,7 +109,7 @@ def test_the_table_lists_the_reference_then_baselines_then_the_paper_optimum_the
             **figures,
         }
     )
-    rows = table_rows(ok_rows(sims, "polynomial"), "polynomial")
+    rows = table_rows(ok_rows(_with_channels(sims, [1.0] * 4), "polynomial"), "polynomial", T3)
     assert [r.trajectory for r in rows] == ["polynomial", "cycloidal", "paper_optimum", OPTIMUM]
     ours = rows[-1]
     assert ours.change["peak_pull"] == pytest.approx(-50.0)

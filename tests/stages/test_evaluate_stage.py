@@ -46,6 +46,14 @@ def test_metrics_table_and_controller_export(evaluated):
     for row in table.values():
         assert row["peak_detachment"] > 0 and row["peak_body_acc"] > 0
     assert metrics["fidelity_points"] == 3  # the optimum and two front members
+    front = metrics["front_simulated"]
+    assert len(front["members"]) == 3 and front["members"][0]["optimum"]
+    assert front["film_safe_fraction"] == pytest.approx(
+        sum(m["min_bend_radius"] >= front["film_limit"]["limit"] for m in front["members"]) / 3
+    )
+    for row in table.values():  # the detachment-window jitter never exceeds the whole run's peak
+        assert 0 < row["jitter"] <= row["peak_body_acc"] + 1e-9
+    assert metrics["seconds"] > 0
     assert {"fs1", "fs3", "fs7"} <= set(metrics["fidelity"])
     csv = np.loadtxt(work / "optimum.csv", delimiter=",", skiprows=1)
     header = (work / "optimum.csv").read_text().splitlines()[0]

@@ -6,12 +6,16 @@ from __future__ import annotations
 import multiprocessing
 import os
 import time
+from collections.abc import Mapping
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from ftfof.config import Params, Train
+from ftfof.errors import DataError
 from ftfof.pipeline import tracking
 from ftfof.pipeline.digests import models_digest
 from ftfof.pipeline.registry import model_name
@@ -26,14 +30,29 @@ class Training:
     wall: float  # seconds
 
 
-def train_all(params: Params, data: TrainingData) -> Training:
-    """Train every target with every loss; seeds differ by target, not by loss."""
+def train_all(
+    params: Params,
+    data: TrainingData,
+    *,
+    warm_start: Mapping[tuple[str, str], dict[str, np.ndarray]] | None = None,
+) -> Training:
+    """Train every target with every loss; seeds differ by target, not by loss.
+
+    ``warm_start`` maps (target, loss) to the state dict each model fine-tunes from (all of them
+    must be there); without it every model starts from its seeded initialisation.
+    """
     cfg = params.train
     jobs = [
         {"target": t, "index": i, "kind": k, "seed": seed_for(params.base.seed, "train", i)}
         for i, t in enumerate(TARGETS)
         for k in cfg.losses
     ]
+    if warm_start is not None:
+        for job in jobs:
+            key = (job["target"], job["kind"])
+            if key not in warm_start:
+                raise DataError("warm start", f"no weights for {key[0]} with the {key[1]} loss")
+            job["warm_start"] = warm_start[key]
     started = time.perf_counter()
     results = run_jobs(jobs, data, cfg)
     wall = time.perf_counter() - started
@@ -73,12 +92,14 @@ def _train_one(job: dict, data: TrainingData, cfg: Train, threads: int) -> dict:
     i = job["index"]
     x_tr, y_tr = data.inputs("train"), data.target("train", i)
     x_va, y_va = data.inputs("validation"), data.target("validation", i)
-    trained = train_model(x_tr, y_tr, x_va, y_va, job["kind"], cfg, job["seed"])
+    trained = train_model(
+        x_tr, y_tr, x_va, y_va, job["kind"], cfg, job["seed"], warm_start=job.get("warm_start")
+    )
     scale = data.target_scale[i]
     pred = predict(trained.model, x_va)[..., 0] * scale
     truth = y_va[..., 0] * scale
     return {
-        **job,
+        **{k: v for k, v in job.items() if k != "warm_start"},
         "state": {k: v.numpy() for k, v in trained.model.state_dict().items()},
         "history": {
             "train": trained.history.train,
@@ -102,7 +123,6 @@ def track(
 ) -> None:
     """One parent run per invocation, a child per model and loss; every model is registered as a
     version of ``ftfof-<robot>-<target>-<loss>``, and the ``use`` pair gets the alias."""
-    import numpy as np
     import torch
 
     mlflow = tracking.setup(tracking.experiment_name(params.robot))

@@ -62,10 +62,13 @@ def train_model(
     settings: config.Train,
     seed: int,
     on_epoch: Callable[[int, float, float], None] | None = None,
+    warm_start: dict[str, NDArray] | None = None,
 ) -> Trained:
     """Fit one ForceGRU (inputs (n, N, 4), targets (n, N, 1), all normalised).
 
-    Early stopping keeps the weights of the epoch with the lowest validation loss.
+    Early stopping keeps the weights of the epoch with the lowest validation loss. ``warm_start``
+    (a state dict) fine-tunes those weights instead of a fresh initialisation; they count as epoch
+    -1, so fine-tuning that never beats them on validation returns them unchanged.
     """
     import time
 
@@ -75,7 +78,10 @@ def train_model(
     dev = device()
     model = ForceGRU(
         ModelConfig(hidden=settings.hidden, layers=settings.layers, dropout=settings.dropout)
-    ).to(dev)
+    )
+    if warm_start is not None:
+        model.load_state_dict({k: torch.as_tensor(np.asarray(v)) for k, v in warm_start.items()})
+    model = model.to(dev)
     opt = torch.optim.Adam(model.parameters(), lr=settings.lr, weight_decay=settings.weight_decay)
     crit = loss_fn(kind, settings)
     xt, yt = torch.tensor(x_train, device=dev), torch.tensor(y_train, device=dev)
@@ -83,6 +89,11 @@ def train_model(
     gen = torch.Generator().manual_seed(seed)
     history = History()
     best, best_state, waited = np.inf, copy.deepcopy(model.state_dict()), 0
+    if warm_start is not None:
+        model.eval()
+        with torch.no_grad():
+            best = float(crit(model(xv), yv))
+        history.best_epoch = -1
     for epoch in range(settings.epochs):
         model.train()
         order = torch.randperm(len(xt), generator=gen).to(dev)

@@ -58,3 +58,22 @@ def test_every_loss_params_allow_has_a_criterion_and_an_unknown_one_is_refused()
         assert torch.isfinite(loss_fn(kind, settings)(pred, target))
     with pytest.raises(ValueError, match=r"unknown loss 'mae' \(known: dilate, mse\)"):
         loss_fn("mae", settings)
+
+
+@pytest.mark.integration  # trains a GRU
+def test_a_warm_start_fine_tunes_from_its_weights_and_never_returns_worse():
+    x, y = _toy(48, 0)
+    xv, yv = _toy(16, 1)
+    settings = config.Train(hidden=8, epochs=6, batch=16, lr=1e-2, patience=6)
+    trained = train_model(x, y, xv, yv, "mse", settings, seed=3)
+    state = {k: v.numpy() for k, v in trained.model.state_dict().items()}
+    # fine-tuning from those weights starts where they are, not from a fresh initialisation
+    one = settings.model_copy(update={"epochs": 1})
+    tuned = train_model(x, y, xv, yv, "mse", one, 4, warm_start=state)
+    assert tuned.history.validation[0] < trained.history.validation[0]
+    # a step so large it can only do harm: the warm-start weights come back untouched
+    harmful = settings.model_copy(update={"epochs": 2, "lr": 50.0})
+    kept = train_model(x, y, xv, yv, "mse", harmful, 4, warm_start=state)
+    assert kept.history.best_epoch == -1
+    for key, value in kept.model.state_dict().items():
+        np.testing.assert_array_equal(value.numpy(), state[key])

@@ -30,7 +30,7 @@ from ftfof.config import Params
 from ftfof.data import dataset as ds
 from ftfof.data.acquisition import ACQUISITION
 from ftfof.data.refinement import grow, round_rows
-from ftfof.errors import SimulationError
+from ftfof.errors import DataError, SimulationError
 from ftfof.evaluate.fidelity import Fidelity, relative_error, target_met
 from ftfof.evaluate.run import OPTIMUM, Inputs, fidelity_of, front_sample
 from ftfof.pipeline import tracking
@@ -85,6 +85,8 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> dict[str, A
     data = read_dataset(paths.dataset)
     inputs = read_inputs(paths.optimize, ctx.name)
     check_models(inputs, paths.optimize, paths.models)
+    if (params.dataset.seq_len, params.dataset.hold) != (data.seq_len, data.hold):
+        raise DataError(str(paths.dataset), "was built with other dataset params (re-run it)")
     key = _open(params, paths)
     state = State(paths.models, paths.optimize)
     rounds: list[Round] = []

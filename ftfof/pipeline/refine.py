@@ -61,6 +61,8 @@ class Paths:
 
 @dataclass
 class Round:
+    """One round as the report shows it."""
+
     record: dict[str, Any]  # the report's entry but the seconds (kept out of data/refine)
     target_met: bool  # the fidelity target held: nothing was added, the models were kept
     simulated: int  # simulations run by this invocation
@@ -74,7 +76,6 @@ class State:
     models: Path
     front: Path
     added: list[pa.Table] = field(default_factory=list)  # each round's training rows
-    runs: dict[str, str] = field(default_factory=dict)  # link tag -> the run that made them
 
 
 def run(params: Params, paths: Paths, workers: int | None = None) -> dict[str, Any]:

@@ -76,6 +76,9 @@ class Foot(Strict):
     pad_length: PositiveFloat  # lf, m
     film_min_bend_radius: PositiveFloat  # fc, m
     droop_height: NonNegativeFloat  # hs, m
+    # film safety when fc is below reach: no trajectory may bend the film tighter than this
+    # fraction of the radius every steady peel imposes at its root (ftfof.sim.film.FilmLimit)
+    peel_root_fraction: Annotated[float, Field(gt=0, le=1)] = 0.75
 
 
 class MinDetachment(Strict):
@@ -166,6 +169,8 @@ class FilmMechanics(Strict):
     mass_per_length: PositiveFloat  # kg/m, film + adhesive
     bending_damping: NonNegativeFloat  # N m^2 s
     axial_damping: NonNegativeFloat  # N s
+    stop_radius: PositiveFloat  # m: bent tighter, the film's bending moment stiffens
+    stop_stiffness: NonNegativeFloat  # how many times EI the moment rises past the stop
 
 
 class FootMechanics(Strict):
@@ -182,7 +187,7 @@ class FootMechanics(Strict):
 class BodyMechanics(Strict):
     """Robot body on compliant mounts (the other feet on the wall) carrying the IMU."""
 
-    mass: PositiveFloat
+    mass: PositiveFloat  # kg, the robot's mass (its weight sets the pad's least shear capacity)
     mount_stiffness: XZ  # N/m
     mount_damping: XZ  # N s/m
 
@@ -235,8 +240,10 @@ class Surface(Strict):
     note: str  # where the numbers come from
     strength: PositiveFloat  # sigma_max, Pa
     fracture_energy: PositiveFloat  # G_c, J/m^2
-    # mode II (shear) against mode I: strength tau/sigma and fracture energy G_II/G_I
-    shear_strength_ratio: PositiveFloat
+    # k = lap-shear capacity / normal pull-off of the whole pad = mode II strength tau / sigma,
+    # with where k comes from (a publication or a measurement), and G_II / G_I
+    shear_capacity_ratio: PositiveFloat
+    shear_source: Annotated[str, Field(min_length=10)]
     shear_energy_ratio: PositiveFloat
     rate_exponent: PositiveFloat  # n in R(v) = 1 + (v / v*)^n
     rate_speed: PositiveFloat  # v*, m/s
@@ -245,6 +252,25 @@ class Surface(Strict):
     contact_stiffness: PositiveFloat  # Pa/m (adhesive foam in compression)
     restitution: Fraction  # Hunt-Crossley e
     rebond_pressure: PositiveFloat  # contact pressure that re-forms a broken bond, Pa
+
+
+GRAVITY = 9.81  # m/s^2
+STANCE_FEET = 3  # a quadruped swings one foot at a time
+SHEAR_SAFETY_FACTOR = 2.0
+
+
+def min_shear_capacity_ratio(robot: Robot, surface: Surface) -> float:
+    """The least lap-shear / pull-off ratio k with which the stance feet hold the robot's weight.
+
+    On a vertical wall the weight m g (m: the robot body's mass) is carried in shear by
+    STANCE_FEET pads, each pressed with the pre-pressure a, so each holds
+    k sigma A phi(a) >= SHEAR_SAFETY_FACTOR m g / STANCE_FEET, with A the pad area and
+    phi(a) = 1 - exp(-a / (A p*)) the preload factor of the bond law.
+    """
+    area = robot.platform.film.width * robot.foot.pad_length
+    engaged = 1.0 - np.exp(-robot.pre_pressure / (area * surface.preload_pressure))
+    weight = robot.platform.body.mass * GRAVITY
+    return float(SHEAR_SAFETY_FACTOR * weight / STANCE_FEET / (surface.strength * area * engaged))
 
 
 class Sensor(Strict):
@@ -339,6 +365,7 @@ class Optimize(Strict):
     recheck_samples: Annotated[int, Field(ge=16)] = 4096  # independent feasibility grid
     rhs_alpha: Fraction = 0.9  # Algorithm 1: initial fraction of each objective's range
     rhs_beta: Annotated[float, Field(gt=0, lt=1)] = 0.9  # Algorithm 1: shrink factor
+    verify_candidates: NonNegativeInt = 10  # RHS candidates re-simulated at most; 0 = trust
 
 
 class RefineTarget(Strict):
@@ -392,7 +419,10 @@ class Logs(Strict):
 
 
 class Base(Strict):
-    seed: NonNegativeInt
+    seed: NonNegativeInt  # every random stream: sampling, acquisition noise, split, ...
+    # seeds the chain from train on (initialisation, shuffling, NSGA-II) when set: sweeping it
+    # re-runs train -> optimize -> evaluate on the same data (null: base.seed)
+    search_seed: NonNegativeInt | None = None
 
 
 class Feasibility(Strict):
@@ -457,6 +487,25 @@ class Params(Strict):
             if name not in presets:
                 raise ValueError(f"{key}: {name!r} is not a preset (have {', '.join(presets)})")
         return self
+
+    @model_validator(mode="after")
+    def _pad_holds_the_robot_in_shear(self) -> Params:
+        k_min = min_shear_capacity_ratio(self.selected_robot, self.selected_surface)
+        k = self.selected_surface.shear_capacity_ratio
+        if k < k_min:
+            raise ValueError(
+                f"surfaces.{self.surface}.shear_capacity_ratio: {k:g} is below {k_min:.3g}, the"
+                f" ratio at which three feet of robot {self.robot!r}, each pressed with its"
+                " pre-pressure, hold its weight on a vertical wall with safety factor"
+                f" {SHEAR_SAFETY_FACTOR:g}"
+            )
+        return self
+
+    @property
+    def search_seed(self) -> int:
+        """The seed of the surrogate training and the search (``base.search_seed`` or ``seed``)."""
+        base = self.base
+        return base.seed if base.search_seed is None else base.search_seed
 
     @property
     def selected_robot(self) -> Robot:

@@ -64,4 +64,15 @@ def update_surface(document: Any, surface: str, values: dict[str, float]) -> Non
         block[name] = float(f"{value:.6g}")
         # two spaces before the comment, wherever an earlier comment of the key stood
         column = block.lc.col + len(f"{name}: {yaml_float(block[name])}") + 2
+        below = _comment_lines_below(block, name)
         block.yaml_add_eol_comment(COMMENT, name, column=column)
+        if below:  # ruamel keeps the full-line comments under a key in its end-of-line comment
+            block.ca.items[name][2].value += "\n" + below
+
+
+def _comment_lines_below(block: Any, name: str) -> str:
+    """The full-line comments that follow ``name``'s line (kept when its comment is replaced)."""
+    token = (block.ca.items.get(name) or [None, None, None])[2]
+    if token is None or "\n" not in token.value:
+        return ""
+    return token.value.split("\n", 1)[1]

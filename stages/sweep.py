@@ -1,5 +1,5 @@
-"""`ftfof sweep robots=A,B surfaces=C,D`: queue the product as DVC experiments, run them in
-parallel workers, and print the `dvc exp show` table when they are done."""
+"""`ftfof sweep robots=A,B surfaces=C,D seeds=1,2,3`: queue the product as DVC experiments, run
+them in parallel workers, and print the `dvc exp show` table when they are done."""
 
 from __future__ import annotations
 
@@ -13,7 +13,9 @@ from stages.common import ParamsOption, console, stage
 
 @stage
 def command(
-    axes: Annotated[list[str], typer.Argument(help="robots=NAME,... and/or surfaces=NAME,...")],
+    axes: Annotated[
+        list[str], typer.Argument(help="robots=NAME,..., surfaces=NAME,..., seeds=N,...")
+    ],
     params_path: Annotated[Path, ParamsOption] = Path("params.yaml"),
     jobs: Annotated[int, typer.Option(min=1, help="Parallel queue workers.")] = 2,
     prefix: Annotated[str, typer.Option(help="Prefix of every experiment name.")] = "",

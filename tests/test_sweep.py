@@ -19,10 +19,27 @@ def test_the_product_names_every_setting_in_every_experiment():
     ]  # fmt: skip
 
 
+def test_a_seed_sweep_sets_the_search_seed_only():
+    experiments = plan(parse_axes(["seeds=1,2,3"]))
+    assert [e.name for e in experiments] == ["seed1", "seed2", "seed3"]
+    assert experiments[1].queue_args()[-2:] == ["-S", "base.search_seed=2"]
+    check_presets(parse_axes(["seeds=4"]), {"robot": ["mst_q"], "surface": ["glass"]})
+
+
+def test_the_search_seed_defaults_to_the_base_seed(raw_params):
+    from ftfof.config import Params
+
+    data = {**raw_params, "base": {"seed": 7}}
+    assert Params.model_validate(data).search_seed == 7
+    data["base"] = {"seed": 7, "search_seed": 3}
+    assert Params.model_validate(data).search_seed == 3
+
+
 @pytest.mark.parametrize(
     ("tokens", "message"),
     [
-        (["robot=mst_q"], "expected one of robots, surfaces"),
+        (["robot=mst_q"], "expected one of robots, surfaces, seeds"),
+        (["seeds=1,x"], "seeds must be non-negative integers"),
         (["robots=a,,b"], "non-empty and distinct"),
         (["robots=a,a"], "non-empty and distinct"),
         (["robots=a b"], "not a usable experiment name part"),

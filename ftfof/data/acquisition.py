@@ -25,7 +25,7 @@ SCALARS = (
     ("landing_pre_pressure", "N", "max Fp after the photoelectric switch"),
     ("initial_pre_pressure", "N", "mean press force just before the trajectory"),
     ("peak_body_acc", "m/s^2", "max IMU acceleration: body jitter"),
-    ("min_bend_radius", "m", "smallest film bend radius during the trajectory"),
+    ("min_bend_radius", "m", "1 / max film_curvature from the trajectory start"),
     ("switch_time", "s", "photoelectric switch: all bonds broken, pad above the switch"),
     ("bonds_at_end", "", "bonds intact at the end of the hold"),
     ("steps", "", "solver steps"),
@@ -46,6 +46,7 @@ UNITS = {
     "body_acc": "m/s^2",
     "bonds": "",
     "switch": "",
+    "film_curvature": "1/m",
 }
 
 ACQUISITION = pa.schema(

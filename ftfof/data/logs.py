@@ -94,6 +94,7 @@ def parse(
         "body_acc": nan,
         "bonds": nan,
         "switch": nan,
+        "film_curvature": nan,  # a force log does not see the film
     }
     assert set(channels) == set(CHANNELS)
     scalars = {

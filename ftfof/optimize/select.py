@@ -8,7 +8,8 @@ checked independently of the search.
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
+from collections.abc import Callable
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -32,8 +33,24 @@ class Outcome:
     recheck: FeasibilityReport  # on the fine grid, every rule
     passing: np.ndarray  # front rows feasible on the fine grid
     index: int  # the chosen front row
-    rhs: RHSResult  # over the passing rows (indices mapped back to front rows on output)
+    rhs: RHSResult  # over ``rhs_rows`` (indices mapped back to front rows on output)
+    rhs_rows: np.ndarray  # the passing rows the simulator has not refused
     summary: dict[str, Any]  # the stage's metrics
+    verdicts: list[Verdict] = field(default_factory=list)  # simulator checks, in RHS order
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """One RHS candidate re-simulated: does a real foot survive it, and what was measured."""
+
+    row: int
+    ok: bool
+    reason: str  # why it was refused ("" when ok)
+    measured: dict[str, float]
+
+
+# Simulates a decision row and judges it; ``row`` is the front row, for the record.
+SimulatorCheck = Callable[[int, np.ndarray], Verdict]
 
 
 def choose(
@@ -42,8 +59,14 @@ def choose(
     problem: TrajectoryProblem,
     result: SearchResult,
     models_digest: str,
+    check: SimulatorCheck | None = None,
 ) -> Outcome:
-    """Recheck the front on ``optimize.recheck_samples`` points; RHS among the rows that pass."""
+    """Recheck the front on ``optimize.recheck_samples`` points; RHS among the rows that pass.
+
+    With ``check``, the RHS choice is re-simulated; a candidate the simulator refuses (the film
+    bent below its limit, a failed run) is dropped and RHS chooses again among the rest, up to
+    ``optimize.verify_candidates`` times: the surrogate proposes, the simulator disposes.
+    """
     cfg = params.optimize
     policy = ctx.policy
     if not result.feasible:
@@ -71,9 +94,10 @@ def choose(
             f"none of the {len(free)} front members passes the recheck on "
             f"{cfg.recheck_samples} samples (first: {'; '.join(recheck.failed(0)[:3])})",
         )
-    n_obj = evaluation.F.shape[1]
-    rhs = rhs_trace(evaluation.F[passing], list(range(n_obj)), cfg.rhs_alpha, cfg.rhs_beta)
-    index = int(passing[rhs.index])
+    limit = cfg.verify_candidates if check is not None else 0
+    index, rhs, candidates, verdicts = verified_rhs(
+        evaluation.F, evaluation.X, passing, cfg, check, limit
+    )
     names = list(ctx.robot.objectives)
     final = result.history[-1]
     summary = {
@@ -102,9 +126,44 @@ def choose(
             },
             "rhs_tie_break": rhs.tie_break,
         },
+        "simulator_check": [v.__dict__ for v in verdicts],
         "models_digest": models_digest,
     }
-    return Outcome(evaluation, recheck, passing, index, rhs, summary)
+    return Outcome(evaluation, recheck, passing, index, rhs, candidates, summary, verdicts)
+
+
+def verified_rhs(
+    F: np.ndarray,
+    X: np.ndarray,
+    rows: np.ndarray,
+    cfg: Optimize,
+    check: SimulatorCheck | None,
+    limit: int,
+) -> tuple[int, RHSResult, np.ndarray, list[Verdict]]:
+    """RHS among ``rows``; each choice the check refuses is dropped and RHS runs again.
+
+    Returns the chosen row, its RHS trace (over the returned rows), the rows it ran over and the
+    verdicts in order. Refused ``limit`` times, or out of rows, is an OptimizationError naming the
+    first refusals. ``limit`` 0 (or no check) trusts the surrogates.
+    """
+    verdicts: list[Verdict] = []
+    priority = list(range(F.shape[1]))
+    while True:
+        rhs = rhs_trace(F[rows], priority, cfg.rhs_alpha, cfg.rhs_beta)
+        index = int(rows[rhs.index])
+        if check is None or limit == 0:
+            return index, rhs, rows, verdicts
+        verdicts.append(check(index, X[index]))
+        if verdicts[-1].ok:
+            return index, rhs, rows, verdicts
+        rows = rows[rows != index]
+        if rows.size == 0 or len(verdicts) == limit:
+            refused = "; ".join(f"row {v.row}: {v.reason}" for v in verdicts[:3])
+            raise OptimizationError(
+                "optimize",
+                f"the simulator refused the first {len(verdicts)} RHS candidates ({refused}); "
+                "raise optimize.verify_candidates or retrain the surrogates where they fail",
+            )
 
 
 def front_table(outcome: Outcome, ctx: RobotContext, models_digest: str) -> pa.Table:
@@ -143,7 +202,7 @@ def optimum_record(
     policy, names = ctx.policy, list(ctx.robot.objectives)
     timing = policy.timing
     points = control_points(ev.X[i : i + 1], policy.p0, policy.p15, timing)[0]
-    rows = outcome.passing
+    rows = outcome.rhs_rows
 
     def step(s) -> dict:
         d = s.as_dict()
@@ -171,6 +230,7 @@ def optimum_record(
             "samples": cfg.recheck_samples,
             "violation": {n: float(v) for n, v in zip(fine.names, fine.violations[i], strict=True)},
         },
+        "simulator_check": [v.__dict__ for v in outcome.verdicts],
         "models_digest": models_digest,
     }
 

@@ -15,7 +15,6 @@ THIRD_BOUNDS = {
     "preload_pressure": (2e2, 5e4),
     "rate_exponent": (0.1, 1.2),
     "rate_speed": (1e-3, 1.0),
-    "shear_strength_ratio": (0.1, 5.0),
     "shear_energy_ratio": (0.1, 10.0),
     "friction": (0.1, 1.5),
     "contact_stiffness": (1e7, 1e10),

@@ -32,6 +32,7 @@ from ftfof.pipeline.digests import bytes_sha256, file_sha256, json_sha256
 from ftfof.pipeline.io import atomic_path, read_table, write_json, write_parquet
 from ftfof.robot import RobotContext, robot_context
 from ftfof.sim import pool
+from ftfof.sim.film import FilmLimit, film_limit
 from ftfof.sim.simulate import SampleResult
 from ftfof.sim.spec import SampleSpec
 from ftfof.trajectory.bezier import DECISION_NAMES
@@ -200,7 +201,8 @@ class Acquisition:
         status = np.array(table.column("status").to_pylist())
         failed = int(np.sum(status != "ok"))
         rate = failed / max(len(keys), 1)
-        summary = summarize(table, self.ctx.robot.foot.film_min_bend_radius, wall, simulated)
+        limit = film_limit(self.ctx.robot, self.params.selected_surface)
+        summary = summarize(table, limit, wall, simulated)
         if rate > self.params.acquire.max_failure_rate:
             errors = [e for e in table.column("error").to_pylist() if e][:3]
             raise SimulationError(
@@ -232,7 +234,7 @@ def job_key(params: Params, ctx: RobotContext, inputs: dict[str, object]) -> str
     )
 
 
-def summarize(table: pa.Table, bend_limit: float, wall: float, simulated: int) -> dict[str, object]:
+def summarize(table: pa.Table, film: FilmLimit, wall: float, simulated: int) -> dict[str, object]:
     df = table.select(
         [
             "source",
@@ -257,11 +259,15 @@ def summarize(table: pa.Table, bend_limit: float, wall: float, simulated: int) -
             for k, f in (("mean", np.mean), ("std", np.std), ("min", np.min), ("max", np.max))
         }
 
+    def below(radius: float) -> float | None:
+        return round(float(np.mean(sampled.min_bend_radius < radius)), 4) if len(sampled) else None
+
     baselines = {
         row.source.removeprefix("baseline:"): {
             "peak_detachment": round(float(row.peak_detachment), 4),
             "peak_pre_pressure": round(float(row.peak_pre_pressure), 4),
             "peak_body_acc": round(float(row.peak_body_acc), 4),
+            "min_bend_radius": round(float(row.min_bend_radius), 6),
         }
         for row in ok[ok.source.str.startswith("baseline:")].itertuples()
     }
@@ -276,9 +282,13 @@ def summarize(table: pa.Table, bend_limit: float, wall: float, simulated: int) -
         "peak_detachment": stats("peak_detachment"),
         "peak_pre_pressure": stats("peak_pre_pressure"),
         "peak_body_acc": stats("peak_body_acc"),
-        "film_below_min_bend_radius": round(float(np.mean(sampled.min_bend_radius < bend_limit)), 4)
-        if len(sampled)
-        else None,
+        # fractions of the sampled set bending the film below fc, and below the safety limit
+        "film_below_min_bend_radius": below(film.fc),
+        "film_below_limit": below(film.radius),
+        "film_limit": {
+            k: round(v, 6) if isinstance(v, float) else v for k, v in film.as_dict().items()
+        },
+        "min_bend_radius": stats("min_bend_radius"),
         "baselines": baselines,
     }
 

@@ -34,6 +34,7 @@ from ftfof.pipeline.console import console
 from ftfof.pipeline.digests import models_digest, optimum_digest
 from ftfof.pipeline.io import atomic_dir, atomic_path, save_figure, write_json
 from ftfof.pipeline.registry import RegisteredWeights, fetch_pair
+from ftfof.pipeline.simcheck import simulator_check
 from ftfof.robot import RobotContext, robot_context
 from ftfof.seeds import seed_for
 
@@ -91,7 +92,7 @@ def build_setup(
     ctx = robot_context(params)
     cfg = params.optimize
     problem = TrajectoryProblem(ctx.policy, surrogate, ctx.robot.objectives, ctx.robot.pre_pressure)
-    seed = seed_for(params.base.seed, "optimize")
+    seed = seed_for(params.search_seed, "optimize")
     settings = SearchSettings(
         population=cfg.population,
         generations=generations or cfg.generations,
@@ -108,7 +109,7 @@ def build_setup(
         need = max(cfg.population - len(front), 0)
         fill = np.empty((0, ctx.policy.n_free))
         if need:
-            fill_seed = seed_for(params.base.seed, "refine")
+            fill_seed = seed_for(params.search_seed, "refine")
             drawn = sample_feasible(ctx.policy, need, fill_seed, s.design, s.batch, s.max_draws)
             fill = ctx.policy.contract(drawn.X)
         initial = warm_population(front, fill, cfg.population)
@@ -208,7 +209,8 @@ class OptimizeRun:
             self._record(r)
 
         result = search(setup.problem, setup.settings, setup.initial, record)
-        outcome = choose(self.params, setup.ctx, setup.problem, result, setup.models_digest)
+        check = simulator_check(self.params, setup.ctx)
+        outcome = choose(self.params, setup.ctx, setup.problem, result, setup.models_digest, check)
         write_outputs(outcome, setup, result, self.params, to)
         artifacts = (to.star, to.pcp, to.convergence.with_suffix(".png"), to.convergence)
         self._finish(outcome, artifacts, optimum_digest(to.out))

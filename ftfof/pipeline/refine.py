@@ -274,10 +274,12 @@ def _fine_tune(params: Params, data: TrainingData, start: Path, out: Path) -> No
 
 
 def _search(params: Params, models: Path, inputs: Inputs, out: Path) -> None:
-    """NSGA-II on the fine-tuned ``models`` from the previous front, then RHS -> ``out``."""
+    """NSGA-II on the fine-tuned ``models`` from the previous front, then RHS with the simulator's
+    check, as `optimize` chooses -> ``out``."""
     from ftfof.optimize.search import search
     from ftfof.optimize.select import choose
     from ftfof.pipeline.optimize import build_setup, write_front
+    from ftfof.pipeline.simcheck import simulator_check
     from ftfof.surrogate.store import load_surrogate
     from ftfof.trajectory.bezier import DECISION_NAMES
 
@@ -289,7 +291,8 @@ def _search(params: Params, models: Path, inputs: Inputs, out: Path) -> None:
         generations=params.refine.generations,
     )
     result = search(setup.problem, setup.settings, setup.initial)
-    outcome = choose(params, setup.ctx, setup.problem, result, setup.models_digest)
+    check = simulator_check(params, setup.ctx)  # as optimize: the simulator disposes
+    outcome = choose(params, setup.ctx, setup.problem, result, setup.models_digest, check)
     write_front(out, outcome, setup, params)
 
 

@@ -1,8 +1,10 @@
 """Experiment sweeps: the product of a few named settings, each one queued DVC experiment.
 
 ``robots=mst_m3f,mst_q surfaces=acrylic,glass`` is four experiments, named ``mst_m3f-acrylic``
-and so on, each setting every axis explicitly (``dvc exp run`` keeps the workspace's params for
-the next experiment, so a setting left out would leak from the previous one).
+and so on; ``seeds=1,2,3`` re-runs the chain from train on with three search seeds on the same
+data (the robustness of the answer). Each experiment sets every axis explicitly (``dvc exp run``
+keeps the workspace's params for the next experiment, so a setting left out would leak from the
+previous one).
 """
 
 from __future__ import annotations
@@ -17,7 +19,8 @@ from dataclasses import dataclass
 
 from ftfof.errors import FtfofError, ParamsError
 
-AXES = {"robots": "robot", "surfaces": "surface"}  # command-line axis -> params key
+# command-line axis -> params key
+AXES = {"robots": "robot", "surfaces": "surface", "seeds": "base.search_seed"}
 _NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.-]*$")
 
 
@@ -44,6 +47,8 @@ def parse_axes(tokens: Sequence[str]) -> dict[str, list[str]]:
             raise ParamsError(f"sweep {token}", "names must be non-empty and distinct")
         if bad := [n for n in names if not _NAME.match(n)]:
             raise ParamsError(f"sweep {token}", f"not a usable experiment name part: {bad[0]!r}")
+        if axis == "seeds" and not all(n.isdigit() for n in names):
+            raise ParamsError(f"sweep {token}", "seeds must be non-negative integers")
         if AXES[axis] in axes:
             raise ParamsError(f"sweep {token}", f"{axis} given twice")
         axes[AXES[axis]] = names
@@ -53,8 +58,11 @@ def parse_axes(tokens: Sequence[str]) -> dict[str, list[str]]:
 
 
 def check_presets(axes: Mapping[str, Sequence[str]], presets: Mapping[str, Sequence[str]]) -> None:
-    """Every swept name must be a preset of params.yaml (``presets``: params key -> names)."""
+    """Every swept name must be a preset of params.yaml (``presets``: params key -> names); axes
+    that are not presets (seeds) are not checked here."""
     for key, names in axes.items():
+        if key not in presets:
+            continue
         have = presets[key]
         if unknown := [n for n in names if n not in have]:
             raise ParamsError(
@@ -65,8 +73,15 @@ def check_presets(axes: Mapping[str, Sequence[str]], presets: Mapping[str, Seque
 def plan(axes: Mapping[str, Sequence[str]], prefix: str = "") -> list[Experiment]:
     """The product of the axes, in the order given, one named experiment each."""
     keys = list(axes)
+
+    def label(key: str, value: str) -> str:
+        return f"seed{value}" if key == AXES["seeds"] else value
+
     return [
-        Experiment(prefix + "-".join(values), dict(zip(keys, values, strict=True)))
+        Experiment(
+            prefix + "-".join(label(k, v) for k, v in zip(keys, values, strict=True)),
+            dict(zip(keys, values, strict=True)),
+        )
         for values in itertools.product(*(axes[k] for k in keys))
     ]
 

@@ -43,7 +43,7 @@ def train_all(
     """
     cfg = params.train
     jobs = [
-        {"target": t, "index": i, "kind": k, "seed": seed_for(params.base.seed, "train", i)}
+        {"target": t, "index": i, "kind": k, "seed": seed_for(params.search_seed, "train", i)}
         for i, t in enumerate(TARGETS)
         for k in cfg.losses
     ]

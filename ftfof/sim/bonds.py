@@ -4,20 +4,28 @@ Force law (evaluated in C++ as a symbolic user function, see :mod:`ftfof.sim.mod
 with opening u_n (film above plate), slip u_t from the bond's anchor and pad area A:
 
 - bonded: f = s A (K_t u_t, K u_n) — linear springs through zero whose stiffness is scaled by
-  s = phi * R: the preload factor phi = 1 - exp(-p_max / p*) of the peak contact pressure seen
-  while bonded, and the rate factor R = max over the current loading of 1 + (v / v*)^n, v the
-  rate of the *mixed-mode* opening (normal and shear alike, each relative to its own critical
-  opening) low-passed over RATE_FILTER seconds (so the snap of a neighbour's release does not
-  count as loading rate); a history variable, so Newton sees a constant law within each step;
+  s = phi * R * (1 - D): the preload factor phi = 1 - exp(-p_max / p*) of the peak contact
+  pressure seen while bonded, the rate factor R = max over the current loading of
+  1 + (v / v*)^n, v the rate of the *mixed-mode* opening (normal and shear alike, each relative
+  to its own critical opening) low-passed over RATE_FILTER seconds (so the snap of a
+  neighbour's release does not count as loading rate), and the damage D of the softening
+  branch; all three are history variables, so Newton sees a constant law within each step;
 - every node: unilateral contact with a C1 ramp of width w (stiffness rises 0 -> Kc A over w)
   and Hunt-Crossley damping; broken nodes in contact get Coulomb friction mu * N (regularised).
 
-Each mode is brittle and energy-consistent: mode I has K = sigma^2 / (2 G) and critical opening
-d_n = 2 G / sigma; mode II has K_t = tau^2 / (2 G_II) and d_t = 2 G_II / tau, with tau and G_II
-the surface's shear ratios times sigma and G. The bond breaks when the mixed-mode opening
-lambda = sqrt((max(u_n, 0) / d_n)^2 + (u_t / d_t')^2) reaches 1. Under compression p the shear
-allowance grows by the friction the pressure adds (adhesion-offset Coulomb: |tau| <= s tau_max +
-mu p), d_t' = d_t + mu p / (s K_t), so a pressed pad does not shear off at its bare bond strength.
+Each mode is bilinear (elastic, then linear softening) and energy-consistent: mode I has the
+strength sigma, the critical opening d_n = 2 G / sigma and the elastic stiffness
+K = sigma / (r d_n); mode II has tau = k sigma (k: the surface's lap-shear to pull-off ratio),
+G_II and d_t = 2 G_II / tau, K_t = tau / (r d_t). The elastic fraction r = sigma / (Kc d_n) makes
+the bond as stiff in tension as the adhesive layer is in compression (r = 1, a brittle law, if
+the layer is softer than that). With the mixed-mode opening
+lambda = sqrt((max(u_n, 0) / d_n)^2 + (u_t / d_t')^2), the bond is elastic up to lambda = r,
+softens with the secant factor 1 - D = r (1 - lambda_max) / (lambda_max (1 - r)) beyond, and
+breaks at lambda = 1; each mode then has released exactly its fracture energy, and with
+G_II = G a mixed-mode opening releases G whatever its mixity (Kendall's peel needs one G).
+Under compression p the shear allowance grows by the friction the pressure adds
+(adhesion-offset Coulomb: |tau| <= s tau_max + mu p), d_t' = d_t (1 + mu p / (s tau)), so a
+pressed pad does not shear off at its bare bond strength.
 A broken node pressed above the re-bond pressure forms a new bond anchored where it lies.
 
 :func:`step` is the per-time-step state machine the simulator's pre-step calls: it reads node
@@ -38,9 +46,9 @@ from ftfof import config
 Array = NDArray[np.float64]
 
 BREAK, SCALE, REBOND = 1, 2, 3
-PUSH_STEP = 0.02  # push a stiffness scale once it has grown by this fraction
+PUSH_STEP = 0.02  # push a scale once the traction would be off by this fraction of the strength
 RATE_FILTER = 0.01  # s, time constant of the opening-rate low-pass
-LOADED = 0.05  # a bond counts as loaded (its rate history grows) above this opening lambda
+LOADED = 0.05  # a bond counts as loaded (its rate history grows) above this lambda / r
 
 
 @dataclass(frozen=True)
@@ -48,9 +56,11 @@ class BondLaw:
     """The per-area constants of the law for one surface."""
 
     critical_opening: float  # d_n = 2 G / sigma, m
-    stiffness: float  # K = sigma^2 / (2 G), Pa/m
+    elastic_fraction: float  # r: softening starts at lambda = r
+    stiffness: float  # K = sigma / (r d_n), Pa/m
     shear_opening: float  # d_t = 2 G_II / tau, m
-    shear_stiffness: float  # K_t = tau^2 / (2 G_II), Pa/m
+    shear_strength: float  # tau = k sigma, Pa
+    shear_stiffness: float  # K_t = tau / (r d_t), Pa/m
     contact_stiffness: float  # Pa/m
     contact_smoothing: float  # w, m
     hunt_crossley: float  # 1.5 (1 - e) / v_ref, s/m
@@ -64,12 +74,16 @@ class BondLaw:
     @classmethod
     def from_surface(cls, surface: config.Surface, smoothing: float) -> BondLaw:
         sigma, G = surface.strength, surface.fracture_energy
-        tau, G_II = sigma * surface.shear_strength_ratio, G * surface.shear_energy_ratio
+        tau, G_II = sigma * surface.shear_capacity_ratio, G * surface.shear_energy_ratio
+        d_n, d_t = 2 * G / sigma, 2 * G_II / tau
+        r = min(sigma / (surface.contact_stiffness * d_n), 1.0)
         return cls(
-            critical_opening=2 * G / sigma,
-            stiffness=sigma**2 / (2 * G),
-            shear_opening=2 * G_II / tau,
-            shear_stiffness=tau**2 / (2 * G_II),
+            critical_opening=d_n,
+            elastic_fraction=r,
+            stiffness=sigma / (r * d_n),
+            shear_opening=d_t,
+            shear_strength=tau,
+            shear_stiffness=tau / (r * d_t),
             contact_stiffness=surface.contact_stiffness,
             contact_smoothing=smoothing,
             hunt_crossley=1.5 * (1 - surface.restitution) / 0.1,
@@ -115,8 +129,9 @@ class BondState:
     broken: NDArray[np.bool_]
     p_max: Array  # peak contact pressure while bonded, Pa
     rate: Array  # rate factor history R of the current loading
-    scale: Array  # phi * R as last pushed to the connector
+    scale: Array  # phi * R * (1 - D) as last pushed to the connector
     opening_rate: Array  # low-passed opening rate, m/s
+    opening_max: Array  # peak mixed-mode opening lambda of the bond (its damage)
 
     @classmethod
     def bonded(cls, x: Array, initial_pressure: float, law: BondLaw) -> BondState:
@@ -128,6 +143,7 @@ class BondState:
             p,
             np.ones(n),
             law.preload_factor(p),
+            np.zeros(n),
             np.zeros(n),
         )
 
@@ -146,17 +162,18 @@ def step(
     rate: Array,
     scale: Array,
     opening_rate: Array,
+    opening_max: Array,
     h: float,
     law: tuple[float, ...],
     push: NDArray[np.int64],
     kind: NDArray[np.int64],
-) -> tuple[int, int, float, float, float]:  # pragma: no cover - compiled
+) -> tuple[int, int, float, float]:  # pragma: no cover - compiled
     """One pre-step update.
 
-    Returns (pushes, bonded count, lowest film height, max curvature, largest bond opening
-    lambda); the last tells the step control how close the next break is.
+    Returns (pushes, bonded count, lowest film height, largest bond load: the opening lambda / r,
+    1 once a bond softens); the last tells the step control how close the next bond failure is.
     """
-    d_c, d_t, k_t, mu, kc, w, hc, p_star, p_rebond, n_rate, v_star, push_step = law
+    d_c, d_t, tau, r, mu, kc, w, hc, p_star, p_rebond, n_rate, v_star, push_step = law
     n = node_index.size
     n_push = 0
     n_bonded = 0
@@ -175,7 +192,8 @@ def step(
         pressure = kc * (ramp * ramp / (2 * w) + max(pen - w, 0.0)) * max(1 - hc * vn, 0.0)
         if not broken[i]:
             ut = x - xp - anchor[i]
-            d_shear = d_t + mu * pressure / (max(scale[i], 1e-12) * k_t)
+            healthy = (1.0 - np.exp(-p_max[i] / p_star)) * rate[i]  # phi * R
+            d_shear = d_t * (1.0 + mu * pressure / (max(healthy, 1e-12) * tau))
             a_n, a_t = max(un, 0.0) / d_c, ut / d_shear
             lam = np.sqrt(a_n * a_n + a_t * a_t)
             if lam >= 1.0:
@@ -185,7 +203,7 @@ def step(
                 n_push += 1
                 continue
             n_bonded += 1
-            lam_max = max(lam_max, lam)
+            lam_max = max(lam_max, min(lam / r, 1.0))
             p_max[i] = max(p_max[i], pressure)
             # rate of the mixed-mode opening, in units of the normal critical opening per second
             vt = qd[j] - vxp
@@ -194,10 +212,15 @@ def step(
             else:
                 v_mixed = max(vn, 0.0)
             opening_rate[i] += (v_mixed - opening_rate[i]) * min(h / RATE_FILTER, 1.0)
-            if lam > LOADED and opening_rate[i] > 0.0:
+            if lam > LOADED * r and opening_rate[i] > 0.0:
                 rate[i] = max(rate[i], 1.0 + (opening_rate[i] / v_star) ** n_rate)
-            target = (1.0 - np.exp(-p_max[i] / p_star)) * rate[i]
-            if target > scale[i] * (1.0 + push_step):
+            opening_max[i] = max(opening_max[i], lam)
+            healthy = (1.0 - np.exp(-p_max[i] / p_star)) * rate[i]
+            target = healthy
+            if opening_max[i] > r:  # softening branch: secant stiffness of the bilinear law
+                target *= r * (1.0 - opening_max[i]) / (opening_max[i] * (1.0 - r))
+            # push once the traction would be off by push_step of the bond's strength
+            if abs(target - scale[i]) * max(lam / r, 1.0) > push_step * healthy:
                 scale[i] = target
                 push[n_push] = i
                 kind[n_push] = SCALE
@@ -208,22 +231,13 @@ def step(
             p_max[i] = pressure
             rate[i] = 1.0
             opening_rate[i] = 0.0
+            opening_max[i] = 0.0
             scale[i] = 1.0 - np.exp(-pressure / p_star)
             push[n_push] = i
             kind[n_push] = REBOND
             n_push += 1
             n_bonded += 1
-    # Film curvature from the ANCF node slopes: |d(angle)/ds| between neighbouring nodes.
-    kmax = 0.0
-    prev = np.arctan2(q[node_index[0] + 3], 1.0 + q[node_index[0] + 2])
-    for i in range(1, n):
-        j = node_index[i]
-        ang = np.arctan2(q[j + 3], 1.0 + q[j + 2])
-        d = ang - prev
-        d = (d + np.pi) % (2 * np.pi) - np.pi
-        kmax = max(kmax, abs(d) / (x_ref[i] - x_ref[i - 1]))
-        prev = ang
-    return n_push, n_bonded, lowest, kmax, lam_max
+    return n_push, n_bonded, lowest, lam_max
 
 
 def kernel_law(law: BondLaw, push_step: float = PUSH_STEP) -> tuple[float, ...]:
@@ -231,7 +245,8 @@ def kernel_law(law: BondLaw, push_step: float = PUSH_STEP) -> tuple[float, ...]:
     return (
         law.critical_opening,
         law.shear_opening,
-        law.shear_stiffness,
+        law.shear_strength,
+        law.elastic_fraction,
         law.friction,
         law.contact_stiffness,
         law.contact_smoothing,

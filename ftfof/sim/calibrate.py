@@ -44,6 +44,8 @@ def _measure(results: Sequence[SampleResult]) -> dict[str, dict[str, float]]:
     out = {}
     for r in results:
         name = r.source.removeprefix("baseline:")
+        if name not in TABLE_I:  # e.g. the random Bezier or the paper's optimum: held out
+            raise ValueError(f"only {', '.join(TABLE_I)} may enter the fit (got {r.source})")
         out[name] = {q: (r.scalars.get(q, 0.0) if r.ok else 0.0) for q in TABLE_I[name]}
     return out
 

@@ -9,8 +9,12 @@ Planar: Exudyn x is along the wall, Exudyn y is our z (normal to the plate). Ite
 - lumped leg: x/z spring-dampers from the body to the ankle whose rest offset *is* the commanded
   trajectory (a symbolic piecewise quintic, exact velocity for the damper) minus the press depth;
 - foot: a rigid body on a passive ankle spring, clamping the film's first ``grip_length`` (pinned
-  at every film node inside the grip);
-- film: ANCF cable elements (exact EI, EA) lying on the plate ahead of the foot, x in [0, lf];
+  at every film node inside the grip, and the last clamped element held straight with the sole:
+  :func:`ftfof.sim.film.clamp_pins`);
+- film: ANCF cable elements (exact EI, EA) lying on the plate ahead of the foot, x in [0, lf],
+  each with a curvature stop (:func:`_bending_moment`) that the solver loop arms only while the
+  element is bent near it (the symbolic moment law costs +70 % run time when always on); a
+  sensor per node records its coordinates for :mod:`ftfof.sim.film`;
 - one cohesive bond connector per film node (law in :mod:`ftfof.sim.bonds`), all sharing one
   symbolic user function; their state lives in the connector parameters (stiffness =
   [K_t A, K A, Kc A], damping = [broken, phi * R, 0], offset = [anchor, 0, 0]).
@@ -45,6 +49,8 @@ from exudyn.itemInterface import (
     SensorObject,
 )
 
+from ftfof.config import FilmMechanics
+from ftfof.sim import film as film_shape
 from ftfof.sim.bonds import BondLaw
 from ftfof.sim.spec import SampleSpec
 
@@ -64,6 +70,10 @@ class Platform:
     x_ref: np.ndarray  # film node reference x
     area: np.ndarray  # pad area per bond
     film_nodes: list[Any]
+    clamp_edge: int  # index of the film node at the clamp edge
+    film_sensors: list[Any]  # node coordinates (x, z, slope_x, slope_z) per film node
+    film_elements: list[Any]
+    bend_stop: Any  # the curvature-stop moment law, set on an element while it is armed
     bonds: list[Any]
     plate_node: Any
     foot_node: Any
@@ -165,6 +175,9 @@ def build(spec: SampleSpec, law: BondLaw) -> Platform:
         )
         for i in range(n)
     ]
+    stop = CreateSymbolicUserFunction(
+        mbs, _bending_moment(film), "bendingMomentUserFunction", itemTypeName="ObjectANCFCable2D"
+    )
     for e in elements:
         mbs.AddLoad(
             LoadMassProportional(
@@ -173,8 +186,7 @@ def build(spec: SampleSpec, law: BondLaw) -> Platform:
             )
         )
     grip = min(foot.grip_length, pad)
-    clamped = np.union1d(x_ref[x_ref <= grip + 1e-12], [grip])  # the foot holds every grip node
-    for x in clamped:
+    for x in film_shape.clamp_pins(x_ref, grip):
         e = min(int(x // dx + 1e-9), n - 1)
         on_film = mbs.AddMarker(
             MarkerBodyPosition(bodyNumber=elements[e], localPosition=[x - e * dx, 0.0, 0.0])
@@ -192,11 +204,16 @@ def build(spec: SampleSpec, law: BondLaw) -> Platform:
         x_ref=x_ref,
         area=area,
         film_nodes=film_nodes,
+        clamp_edge=film_shape.clamp_edge(x_ref, grip),
+        film_sensors=[],
+        film_elements=elements,
+        bend_stop=stop,
         bonds=[],
         plate_node=plate,
         foot_node=foot_node,
         sensors={},
         switch_time=Real("t_switch", 1e9),
+        keep=[stop],
         press_depth=Real("press_depth", 0.0),
         series_stiffness=_series_stiffness(spec, law, area),
     )
@@ -227,8 +244,39 @@ def build(spec: SampleSpec, law: BondLaw) -> Platform:
             )
         ),
     }
+    coords = exu.OutputVariableType.Coordinates
+    p.film_sensors = [
+        mbs.AddSensor(SensorNode(nodeNumber=node, outputVariableType=coords, **store))
+        for node in film_nodes
+    ]
     mbs.Assemble()
     return p
+
+
+def _bending_moment(film: FilmMechanics) -> Any:
+    """Linear bending (EI, damping) plus a curvature stop: past 1 / stop_radius the moment
+    rises ``stop_stiffness`` times faster, so the film cannot be folded flat at no cost."""
+    limit, gain = 1.0 / film.stop_radius, film.stop_stiffness
+
+    def bending_moment(
+        mbs,
+        t,
+        itemNumber,
+        axialPositionNormalized,
+        curvature,
+        curvature_t,
+        curvatureRef,
+        bendingStiffness,
+        bendingDamping,
+        axialStrain,
+        axialStrain_t,
+        axialStrainRef,
+    ):
+        k = curvature - curvatureRef
+        over = esym.max(esym.abs(k) - Real(limit), Real(0.0)) * esym.sign(k)
+        return bendingStiffness * (k + Real(gain) * over) + bendingDamping * curvature_t
+
+    return bending_moment
 
 
 def _series_stiffness(spec: SampleSpec, law: BondLaw, area: np.ndarray) -> float:

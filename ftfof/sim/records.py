@@ -29,6 +29,7 @@ CHANNELS = (
     "body_acc",  # IMU acceleration magnitude, m/s^2
     "bonds",  # intact bonds
     "switch",  # photoelectric switch state (1 = foot detached)
+    "film_curvature",  # max curvature of the film's free span (clamp to peel front), 1/m
 )
 
 

@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import signal
 
-from ftfof.sim import bonds
+from ftfof.sim import bonds, film
 from ftfof.sim.model import Platform, build
 from ftfof.sim.records import FailureReason, SampleResult, Status, force_peaks
 from ftfof.sim.spec import SampleSpec
@@ -53,7 +53,11 @@ class _Run:
         self.switched_at = math.nan
         self.last_break = -math.inf
         self.bond_log: list[tuple[float, int]] = [(0.0, len(p.film_nodes))]
-        self.max_curvature = 0.0
+        self.bonded_log: list[np.ndarray] = [~self.state.broken]  # per bond_log entry
+        self.armed = np.zeros(len(p.film_elements), dtype=bool)
+        self.changed = np.zeros(len(p.film_elements), dtype=np.int64)
+        stop_radius = s.mechanics.film.stop_radius
+        self.arm_at, self.disarm_at = film.ARM / stop_radius, film.DISARM / stop_radius
         self.mode = ""
         self.deadline = time.perf_counter() + s.solver.time_budget
         self.stop_reason: FailureReason | None = None
@@ -64,7 +68,7 @@ class _Run:
         q = self.data.GetODE2Coordinates(copy=False)
         qd = self.data.GetODE2Coordinates_t(copy=False)
         st = self.state
-        n_push, n_bonded, lowest, kmax, lam_max = bonds.step(
+        n_push, n_bonded, lowest, lam_max = bonds.step(
             q,
             qd,
             self.node_index,
@@ -77,6 +81,7 @@ class _Run:
             st.rate,
             st.scale,
             st.opening_rate,
+            st.opening_max,
             self.solver.it.currentStepSize,
             self.kernel_law,
             self.push,
@@ -85,8 +90,12 @@ class _Run:
         if n_push:
             self._apply(n_push, t)
             self.bond_log.append((t, n_bonded))
-        if t >= self.t0:
-            self.max_curvature = max(self.max_curvature, kmax)
+            self.bonded_log.append(~st.broken)
+        n_armed = film.arm_stops(
+            q, self.node_index, self.p.x_ref, self.armed, self.arm_at, self.disarm_at, self.changed
+        )
+        if n_armed:
+            self._arm(n_armed)
         if t <= self.t0:
             self._press(t, q, qd)
         if self.p.leg_update is not None:
@@ -130,6 +139,12 @@ class _Run:
                 if kind == bonds.REBOND:
                     setp(obj, "offset", [float(st.anchor[i]), 0.0, 0.0])
                 setp(obj, "damping", [0.0, float(st.scale[i]), 0.0])
+
+    def _arm(self, n: int) -> None:
+        """Put the curvature stop on the elements just armed, take it off those disarmed."""
+        for e in self.changed[:n]:
+            law = self.p.bend_stop if self.armed[e] else 0
+            self.mbs.SetObjectParameter(self.p.film_elements[e], "bendingMomentUserFunction", law)
 
     def _press(self, t: float, q: Array, qd: Array) -> None:
         """Integral control of the press depth so the sensor reads the pre-pressure a."""
@@ -273,7 +288,8 @@ def _channels(p: Platform, run: _Run) -> dict[str, Array]:
         (t >= run.switched_at) if not math.isnan(run.switched_at) else np.zeros_like(t, dtype=bool)
     )
     log = np.array(run.bond_log)
-    n_bonds = log[np.searchsorted(log[:, 0], t, side="right") - 1, 1]
+    event = np.searchsorted(log[:, 0], t, side="right") - 1
+    n_bonds = log[event, 1]
     acc = np.hypot(at("body_acc", 1), at("body_acc", 2))
     ankle = spec.mechanics.foot.ankle_height
     return {
@@ -291,7 +307,33 @@ def _channels(p: Platform, run: _Run) -> dict[str, Array]:
         "body_acc": acc,
         "bonds": n_bonds.astype(float),
         "switch": switch.astype(float),
+        "film_curvature": _film_curvature(p, t, tt, np.array(run.bonded_log)[event]),
     }
+
+
+def _film_curvature(p: Platform, t: Array, tt: Array, bonded: Array) -> Array:
+    """Max curvature of the film's free span at each time (:mod:`ftfof.sim.film`), 0 after
+    the pad's first full release."""
+    stored = [np.asarray(p.mbs.GetSensorStoredData(s)) for s in p.film_sensors]
+    if len(stored[0]) == 0:
+        return np.zeros_like(t)
+    coords = np.stack([d[:, 1:] for d in stored], axis=1)  # (times, nodes, 4)
+    on_grid = _resample(stored[0][:, 0], coords, t)
+    kappa = film.free_span_curvature(on_grid, p.x_ref, p.clamp_edge, bonded)
+    released = np.cumsum((tt >= 0) & ~bonded.any(axis=1)) > 0
+    return np.where(released, 0.0, kappa)
+
+
+def _resample(times: Array, values: Array, t: Array) -> Array:
+    """``values`` (one row per entry of ``times``) linearly interpolated at ``t``, held at the
+    ends."""
+    if len(times) == 1:
+        return np.repeat(values, len(t), axis=0)
+    i = np.clip(np.searchsorted(times, t, side="right") - 1, 0, len(times) - 2)
+    span = times[i + 1] - times[i]
+    w = np.clip((t - times[i]) / np.where(span > 0, span, 1.0), 0.0, 1.0)
+    w = w.reshape(-1, *([1] * (values.ndim - 1)))
+    return values[i] * (1 - w) + values[i + 1] * w
 
 
 def summarize(result: SampleResult, run: _Run, spec: SampleSpec) -> dict[str, float]:
@@ -300,7 +342,7 @@ def summarize(result: SampleResult, run: _Run, spec: SampleSpec) -> dict[str, fl
     t = c["t"]
     during = t >= 0
     before = (t > -spec.platform.protocol.press_hold) & (t <= 0)
-    film_limit = 1.0 / run.max_curvature if run.max_curvature > 0 else math.inf
+    bend = float(np.max(c["film_curvature"][during], initial=0.0))
     switched = run.switched_at - run.t0
     holding = during & (c["bonds"] > 0) & ((t <= switched) if not math.isnan(switched) else True)
     return {
@@ -310,7 +352,7 @@ def summarize(result: SampleResult, run: _Run, spec: SampleSpec) -> dict[str, fl
         "landing_pre_pressure": float(np.max(c["Fp"][c["switch"] > 0], initial=0.0)),
         "initial_pre_pressure": float(np.mean(-c["Fz"][before])) if before.any() else math.nan,
         "peak_body_acc": float(np.max(c["body_acc"][during], initial=0.0)),
-        "min_bend_radius": float(film_limit),
+        "min_bend_radius": 1.0 / bend if bend > 0 else math.inf,
         "switch_time": float(run.switched_at - run.t0)
         if not math.isnan(run.switched_at)
         else math.nan,

@@ -149,19 +149,43 @@ def _whole_pad(params, surface: dict, pre_pressure: float = 0.1):
     return bench(params, surface=surface, foot=foot, robot={"pre_pressure": pre_pressure})
 
 
-def test_lap_shear_and_pull_off_of_the_whole_pad_hold_the_two_mode_strengths(params):
-    """With almost no preload, every bond loaded alike: tau_max A in shear, sigma_max A in pull."""
-    b = _whole_pad(params, PLAIN)
+def _pull_and_lap(params, surface: dict, pre_pressure: float = 0.1, name: str = ""):
+    """Whole-pad pull-off (30 mm up in 0.3 s) and lap shear (30 mm along in 0.6 s)."""
+    b = _whole_pad(params, surface, pre_pressure)
     pull = waypoints([0.0, 0.3], [(0, 0), (0, 0.03)], [(0, 0), (0, 0)])
     shear = waypoints([0.0, 0.6], [(0, 0), (0.03, 0)], [(0, 0), (0, 0)])
-    pulled, sheared = _run_all([with_trajectory(b, pull, "pull"), with_trajectory(b, shear, "lap")])
+    return [with_trajectory(b, pull, f"pull{name}"), with_trajectory(b, shear, f"lap{name}")]
+
+
+def test_whole_pad_holds_k_times_its_pull_off_in_lap_shear(params):
+    """With almost no preload (no friction to help), every bond loaded alike: the pad holds
+    sigma_max A in pull-off and at least k times that in lap shear, k the surface's
+    shear_capacity_ratio from its cited source."""
+    pulled, sheared = _run_all(_pull_and_lap(params, PLAIN))
     assert pulled.ok and sheared.ok, (pulled.error, sheared.error)
     surface = params.selected_surface
     area = params.selected_robot.platform.film.width * params.selected_robot.foot.pad_length
     assert pulled.scalars["peak_normal"] == pytest.approx(surface.strength * area, rel=0.15)
-    tau = surface.strength * surface.shear_strength_ratio
-    assert sheared.scalars["peak_shear"] == pytest.approx(tau * area, rel=0.15)
+    k = surface.shear_capacity_ratio
+    assert k >= 1.5 and surface.shear_source  # film-backed dry adhesives: several times
+    assert sheared.scalars["peak_shear"] >= k * pulled.scalars["peak_normal"]
     assert sheared.channels["bonds"].min() == 0  # it did shear off (and re-bonds when held)
+
+
+def test_mixed_mode_pull_off_rises_then_saturates_with_preload(params):
+    """The preload factor scales the mixed-mode capacity: a whole pad pulled off at 45 degrees
+    (tension and shear at once, no compression left to add friction) holds more the harder it
+    was pressed, saturating like 1 - exp(-p / p*)."""
+    presses = (1.0, 4.0, 16.0, 64.0)
+    diagonal = waypoints([0.0, 0.3], [(0, 0), (0.02, 0.02)], [(0, 0), (0, 0)])
+    specs = [with_trajectory(_whole_pad(params, {}, a), diagonal, f"diag{a:g}") for a in presses]
+    results = _run_all(specs)
+    assert all(r.ok for r in results), [r.error for r in results]
+    assert all(r.scalars["peak_shear"] > 0.3 * r.scalars["peak_pull"] for r in results)
+    peaks = np.array([r.scalars["peak_pull"] for r in results])
+    assert np.all(np.diff(peaks) > 0), peaks
+    gains = np.diff(peaks) / np.diff(presses)  # N of adhesion per N of preload
+    assert gains[-1] < 0.2 * gains[0], peaks
 
 
 def test_lap_shear_rises_with_shear_speed(params):

@@ -28,3 +28,19 @@ def test_the_fitted_lines_are_rewritten_in_place():
 def test_a_fitted_value_without_a_line_is_a_params_error_naming_the_surface():
     with pytest.raises(ParamsError, match=r"surfaces.acrylic: has no key for \['rate_speed'\]"):
         _rewrite({"strength": 2.5, "rate_speed": 0.5})
+
+
+def test_full_line_comments_under_a_fitted_key_are_kept():
+    params = (
+        "surfaces:\n  acrylic:\n    strength: 1.0  # a note\n"
+        "    # why the next key has its value,\n    # on two lines\n    friction: 0.6\n"
+    )
+    text = edit_yaml(
+        params, lambda doc: update_surface(doc, "acrylic", {"strength": 2.5}), Path("p.yaml")
+    )[0]
+    assert text.splitlines()[2:5] == [
+        "    strength: 2.5  # fitted by ftfof calibrate (reports/calibration.json)",
+        "    # why the next key has its value,",
+        "    # on two lines",
+    ]
+    assert yaml.safe_load(text)["surfaces"]["acrylic"] == {"strength": 2.5, "friction": 0.6}

@@ -10,6 +10,7 @@ from typer.testing import CliRunner
 
 from ftfof.config import Params
 from ftfof.robot import robot_context
+from ftfof.sim.film import film_limit
 from ftfof.trajectory.bezier import DECISION_NAMES
 from stages.cli import app
 from tests.conftest import cli_args, train_models, write_params
@@ -66,6 +67,13 @@ def test_front_and_optimum_are_written(optimized):
         assert optimum["decision"][name] == pytest.approx(chosen[name])
     assert len(optimum["control_points"]) == 16
     assert max(optimum["recheck"]["violation"].values()) <= 0
+    # the simulator had the last word: the chosen row is the last one it checked, and it passed
+    checked = Params.model_validate(data)
+    limit = film_limit(checked.selected_robot, checked.selected_surface).radius
+    *refused, accepted = optimum["simulator_check"]
+    assert accepted["ok"] and accepted["row"] == optimum["front_row"]
+    assert accepted["measured"]["min_bend_radius"] >= limit
+    assert all(not v["ok"] and v["reason"] for v in refused)
     assert len(optimum["predicted"]["Fd"]) == len(optimum["predicted"]["t"])
     summary = json.loads((tmp / f"opt_{robot}_optimize.json").read_text())
     assert summary["generations"] == TINY["generations"] and summary["robot"] == robot

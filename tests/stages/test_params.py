@@ -61,6 +61,19 @@ def test_unknown_robot_is_named(tmp_path, params_dict):
     assert "robot: 'mst_x' is not a preset (have mst_m3f, mst_q)" in _error(tmp_path, params_dict)
 
 
+def test_a_pad_too_weak_in_shear_to_hold_the_robot_is_named(tmp_path, params_dict):
+    """Three stance feet must hold the robot's weight on a wall with safety factor 2."""
+    params_dict["robots"]["mst_m3f"]["platform"]["body"]["mass"] = 5.0  # ten times heavier
+    msg = _error(tmp_path, params_dict)
+    assert "surfaces.acrylic.shear_capacity_ratio: 2 is below" in msg
+    assert "robot 'mst_m3f'" in msg and "safety factor 2" in msg
+
+
+def test_a_shear_ratio_without_its_source_is_named(tmp_path, params_dict):
+    del params_dict["surfaces"]["acrylic"]["shear_source"]
+    assert "surfaces.acrylic.shear_source: Field required" in _error(tmp_path, params_dict)
+
+
 def test_unordered_timing_is_named(tmp_path, params_dict):
     params_dict["robots"]["mst_q"]["timing"] = {"T1": 0.5, "T2": 0.4, "T3": 1.0}
     assert "robots.mst_q.timing: must satisfy T1 < T2 < T3" in _error(tmp_path, params_dict)

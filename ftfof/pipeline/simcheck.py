@@ -1,0 +1,47 @@
+"""The simulator's word on an RHS candidate: re-simulate it on the platform and refuse it when a
+real foot would not survive it, whatever the surrogates predicted (issue: film safety)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ftfof.config import Params
+from ftfof.optimize.select import SimulatorCheck, Verdict
+from ftfof.pipeline.bench import bench
+from ftfof.robot import RobotContext
+
+MEASURED = (
+    "min_bend_radius",
+    "peak_pull",
+    "peak_normal",
+    "peak_shear",
+    "landing_pre_pressure",
+    "peak_body_acc",
+)
+
+
+def simulator_check(params: Params, ctx: RobotContext) -> SimulatorCheck:
+    """A check that simulates a decision row and passes it when the run succeeds and the film's
+    minimum bend radius stays at or above its safety limit (:class:`ftfof.sim.film.FilmLimit`)."""
+    from ftfof.sim.film import film_limit
+    from ftfof.sim.simulate import simulate
+
+    on = bench(params, ctx)
+    limit = film_limit(ctx.robot, params.selected_surface).radius
+
+    def check(row: int, X: np.ndarray) -> Verdict:
+        result = simulate(on.bezier("verify", row, X))
+        measured = {k: float(result.scalars[k]) for k in MEASURED if k in result.scalars}
+        if not result.ok:
+            return Verdict(row, False, f"simulation failed: {result.error}", measured)
+        bend = measured["min_bend_radius"]
+        if bend < limit:
+            return Verdict(
+                row,
+                False,
+                f"film bent to {1e3 * bend:.2f} mm, below its {1e3 * limit:.2f} mm limit",
+                measured,
+            )
+        return Verdict(row, True, "", measured)
+
+    return check

@@ -375,6 +375,25 @@ class Optimize(Strict):
     verify_candidates: NonNegativeInt = 10  # RHS candidates re-simulated at most; 0 = trust
 
 
+class RefineTarget(Strict):
+    """The fidelity on the robot's first-priority objective that ends the refinement early."""
+
+    spearman: Annotated[float, Field(ge=-1, le=1)] = 0.9  # rank correlation over a round's points
+    relative_error: PositiveFloat = 0.15  # median over the points and at the optimum itself
+
+
+class Refine(Strict):
+    """Simulate where the optimiser went, grow the dataset there, fine-tune and search again."""
+
+    rounds: NonNegativeInt = 3  # 0: evaluate gets the optimize stage's models and optimum
+    points: NonNegativeInt = 50  # front members re-simulated per round, besides the optimum
+    target: RefineTarget = RefineTarget()
+    epochs: PositiveInt = 15  # fine-tuning epochs per round, warm-started from the last weights
+    patience: PositiveInt = 4  # early stopping on the (unchanged) validation split
+    lr: PositiveFloat = 1e-3  # fine-tuning learning rate
+    generations: PositiveInt = 300  # NSGA-II generations per round, from the previous front
+
+
 class Evaluate(Strict):
     """Re-simulation of the optimum against the baselines, and the controller export (§11)."""
 
@@ -464,6 +483,7 @@ class Params(Strict):
     logs: Logs = Logs()
     train: Train = Train()
     optimize: Optimize = Optimize()
+    refine: Refine = Refine()
     evaluate: Evaluate = Evaluate()
 
     @model_validator(mode="after")

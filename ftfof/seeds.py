@@ -23,6 +23,7 @@ Stream = Literal[
     "optimize",  # NSGA-II and its seeded start
     "plots",  # which samples the figures show
     "bench",  # draws of the benchmarks under bench/
+    "refine",  # the feasible draws that fill a refinement round's warm-started population
 ]
 STREAMS: tuple[Stream, ...] = get_args(Stream)
 

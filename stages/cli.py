@@ -14,6 +14,7 @@ from stages import (
     import_logs,
     optimize,
     profile,
+    refine,
     sample,
     simulate,
     sweep,
@@ -44,6 +45,7 @@ app.command("dataset")(dataset.command)
 app.command("import-logs")(import_logs.command)
 app.command("train")(train.command)
 app.command("optimize")(optimize.command)
+app.command("refine")(refine.command)
 app.command("evaluate")(evaluate.command)
 app.command("profile")(profile.command)
 app.command("simulate")(simulate.command)

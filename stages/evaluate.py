@@ -13,8 +13,9 @@ import typer
 
 from stages.common import ParamsOption, console, stage
 
-OPTIMIZE = Path("data/optimize")
-MODELS = Path("data/models")
+OPTIMIZE = Path("data/refine/optimize")
+MODELS = Path("data/refine/models")
+REFINE = Path("reports/refine.json")
 OUT = Path("data/evaluate")
 REPORT = Path("reports/evaluate.html")
 METRICS = Path("reports/metrics.json")
@@ -25,9 +26,10 @@ FIGURES = Path("reports")
 @stage
 def command(
     params_path: Annotated[Path, ParamsOption] = Path("params.yaml"),
-    optimize: Annotated[Path, typer.Option(help="The optimize stage's directory.")] = OPTIMIZE,
-    models: Annotated[Path, typer.Option(help="Trained surrogate directory.")] = MODELS,
-    figures: Annotated[Path, typer.Option(help="Where the train/optimize PNGs are.")] = FIGURES,
+    optimize: Annotated[Path, typer.Option(help="Optimum and front (refine's).")] = OPTIMIZE,
+    models: Annotated[Path, typer.Option(help="The surrogates it was found on.")] = MODELS,
+    figures: Annotated[Path, typer.Option(help="Where the stages' PNGs are.")] = FIGURES,
+    refine: Annotated[Path, typer.Option(help="The refinement report (JSON).")] = REFINE,
     out: Annotated[Path, typer.Option(help="Simulations of this evaluation.")] = OUT,
     report: Annotated[Path, typer.Option(help="Self-contained HTML report.")] = REPORT,
     metrics: Annotated[Path, typer.Option(help="Metrics JSON.")] = METRICS,
@@ -40,7 +42,7 @@ def command(
     from ftfof.pipeline.params_file import load_params
 
     params = load_params(params_path)
-    paths = Paths(optimize, models, figures, out, report, metrics, export)
+    paths = Paths(optimize, models, figures, out, report, metrics, export, refine)
     summary = run(params, paths, workers).summary
     opt = summary["table"][OPTIMUM]
     console.print(

@@ -15,13 +15,14 @@ from tests.pipeline import clone_to, run
 
 pytestmark = pytest.mark.slow
 
-STAGES = ("sample", "acquire", "dataset", "train", "optimize", "evaluate")
+STAGES = ("sample", "acquire", "dataset", "train", "optimize", "refine", "evaluate")
 REPRODUCIBLE = {
     "sample": "data/trajectories.parquet",
     "acquire": "data/acquisition",
     "dataset": "data/dataset",
     "train": "data/models",
     "optimize": "data/optimize",
+    "refine": "data/refine",
 }
 
 
@@ -50,6 +51,16 @@ def test_every_stage_wrote_its_outputs(repo):
     assert {"surrogate_mse.pt", "config.json"} <= {p.name for p in (repo / "data/models").iterdir()}
     optimum = json.loads((repo / "data/optimize/optimum.json").read_text())
     assert max(optimum["recheck"]["violation"].values()) <= 0
+    rounds = json.loads((repo / "reports/refine.json").read_text())["rounds"]
+    assert 1 <= len(rounds) <= 2  # the tiny profile's refine.rounds, fewer once the target is met
+    refined = pq.read_table(repo / "data/refine/dataset/samples.parquet").to_pandas()
+    for r in rounds:
+        assert (refined.source == f"refine:{r['round']}").sum() == r["added"]
+    evaluated = json.loads((repo / "data/refine/optimize/optimum.json").read_text())
+    assert (
+        evaluated["front_row"]
+        == json.loads((repo / "reports/metrics.json").read_text())["optimum_front_row"]
+    )
     metrics = json.loads((repo / "reports/metrics.json").read_text())
     order = ["polynomial", "cycloidal", "random_bezier", "eps_bezier", "paper_optimum", "optimum"]
     assert set(metrics["table"]) == set(order)
@@ -79,9 +90,12 @@ def test_mlflow_store_holds_every_tracked_stage(repo):
     experiment = client.get_experiment_by_name("ftfof-mst_m3f")
     runs = client.search_runs([experiment.experiment_id])
     names = {r.info.run_name for r in runs}
-    assert {"train", "optimize", "evaluate"} <= names
+    assert {"train", "optimize", "refine", "evaluate"} <= names
     evaluate = next(r for r in runs if r.info.run_name == "evaluate")
-    optimize = client.get_run(evaluate.data.tags["ftfof.optimize_run"])
+    refine = client.get_run(evaluate.data.tags["ftfof.optimize_run"])
+    assert refine.info.run_name == "refine"
+    optimize = client.get_run(refine.data.tags["ftfof.optimize_run"])
+    assert optimize.info.run_name == "optimize"
     train = client.get_run(optimize.data.tags["ftfof.surrogate_run"])
     assert train.info.run_name == "train"
     assert all(r.data.tags["dvc.stage"] in STAGES for r in runs if "dvc.stage" in r.data.tags)
@@ -116,5 +130,5 @@ def test_a_queued_sweep_runs_in_parallel_workers_and_compares(repo):
     assert run_q.data.tags["dvc.exp_name"] == "mst_q-glass"
     m3f = client.get_experiment_by_name("ftfof-mst_m3f")
     on_glass = client.search_runs([m3f.experiment_id], "tags.`dvc.exp_name` = 'mst_m3f-glass'")
-    assert {r.info.run_name for r in on_glass} >= {"train", "optimize", "evaluate"}
+    assert {r.info.run_name for r in on_glass} >= {"train", "optimize", "refine", "evaluate"}
     assert all(r.data.params.get("surface", "glass") == "glass" for r in on_glass)

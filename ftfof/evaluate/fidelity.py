@@ -83,3 +83,20 @@ def fidelity(names: Sequence[str], predicted: Array, simulated: Array) -> list[F
         rho = float(spearmanr(p, s).statistic) if varied else float("nan")
         out.append(Fidelity(name, len(p), float(error.mean()), float(relative), rho))
     return out
+
+
+def relative_error(predicted: float, simulated: float) -> float:
+    """|predicted - simulated| / |simulated|; NaN when the simulated value is zero."""
+    return abs(predicted - simulated) / abs(simulated) if abs(simulated) > 1e-12 else float("nan")
+
+
+def target_met(
+    fid: Fidelity, optimum_error: float, min_spearman: float, max_relative_error: float
+) -> bool:
+    """Whether one objective's fidelity over a set of points (and ``optimum_error``, the relative
+    error at the chosen optimum) meets a target; NaN never meets it."""
+    return bool(
+        fid.spearman >= min_spearman
+        and fid.median_relative_error <= max_relative_error
+        and optimum_error <= max_relative_error
+    )

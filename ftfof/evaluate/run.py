@@ -37,6 +37,9 @@ TRAINING = (
     ("train_loss.png", "Training and validation loss per model (cf. FTFOF Fig. 8)"),
     ("train_predictions.png", "Validation predictions against simulation (cf. FTFOF Fig. 9)"),
 )
+REFINEMENT = (
+    ("refine_fidelity.png", "Fidelity on each refinement round's points, before training on them"),
+)
 PLOTTED = ("t", "x_cmd", "z_cmd", "Fd", "Fp", "body_acc")  # channels the report's figures use
 
 
@@ -271,6 +274,7 @@ def context(
         "optimum_simulated": simulated[0].tolist(),
         "pareto": PARETO,
         "training": TRAINING,
+        "refinement": REFINEMENT,
         "export": {
             "rows": export["rows"],
             "rate": export["rate_hz"],

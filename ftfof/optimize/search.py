@@ -152,6 +152,20 @@ def search(
     )
 
 
+def warm_population(front: Array, fill: Array, size: int) -> Array:
+    """A first population of ``size`` rows: a previous front (its distinct rows, in order), then
+    rows of ``fill`` up to ``size``. A front larger than ``size`` keeps ``size`` rows spread evenly
+    along it. Warm-starts a search on updated surrogates where the last one ended."""
+    front = np.unique(np.atleast_2d(front), axis=0, return_index=True)
+    rows = front[0][np.argsort(front[1])]  # distinct, in the front's order
+    if len(rows) >= size:
+        return rows[np.round(np.linspace(0, len(rows) - 1, size)).astype(int)]
+    need = size - len(rows)
+    if len(fill) < need:
+        raise ValueError(f"{len(rows)} front rows and {len(fill)} fill rows are fewer than {size}")
+    return np.vstack([rows, np.atleast_2d(fill)[:need]])
+
+
 def _uniform():
     from pymoo.operators.sampling.rnd import FloatRandomSampling
 

@@ -17,6 +17,7 @@ from ftfof.evaluate.run import (
     OPTIMUM,
     PAPER_OPTIMUM,
     PARETO,
+    REFINEMENT,
     TRAINING,
     Evaluation,
     Inputs,
@@ -31,17 +32,19 @@ from ftfof.pipeline.digests import models_digest, optimum_digest
 from ftfof.pipeline.io import atomic_path, write_json
 from ftfof.pipeline.jobs import FINAL, Acquisition
 from ftfof.robot import RobotContext, robot_context
+from ftfof.sim.spec import Bench, SampleSpec
 
 
 @dataclass(frozen=True)
 class Paths:
-    optimize: Path  # what `optimize` wrote
+    optimize: Path  # the optimum and its front (what `refine` passed on)
     models: Path
-    figures: Path  # where the train/optimize PNGs are
+    figures: Path  # where the train/optimize/refine PNGs are
     out: Path  # the simulations of this evaluation
     report: Path
     metrics: Path
     export: Path
+    refine: Path  # reports/refine.json
 
 
 def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
@@ -52,12 +55,10 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
     started = time.perf_counter()
     ctx = robot_context(params)
     inputs = read_inputs(paths.optimize, ctx.name)
-    if inputs.optimum["models_digest"] != models_digest(paths.models):
-        raise DataError(
-            str(paths.optimize), f"was optimised on other models than {paths.models} (re-run it)"
-        )
+    check_models(inputs, paths.optimize, paths.models)
     surrogate = load_surrogate(paths.models)
-    pictures = {key: _picture(paths.figures / key) for key, _ in (*PARETO, *TRAINING)}
+    pictures = {key: _picture(paths.figures / key) for key, _ in (*PARETO, *TRAINING, *REFINEMENT)}
+    rounds = read_refine(paths.refine)
     front_rows = front_sample(inputs, params.evaluate.front_points)
     job = _job(params, ctx, paths.out, inputs, front_rows)
     cfg = params.acquire
@@ -73,7 +74,8 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
     simulations = pq.read_table(job.out / FINAL).to_pandas()
     result = evaluate(params, ctx, inputs, simulations, surrogate)
     pictures.update(result.figures)
-    html = render({**result.context, "figures": pictures, "export_path": str(paths.export)})
+    extra = {"figures": pictures, "export_path": str(paths.export), "refine": rounds}
+    html = render({**result.context, **extra})
     controller = result.controller
     with atomic_path(paths.export) as tmp:
         header = ",".join(controller.columns)
@@ -107,6 +109,22 @@ def read_inputs(directory: Path, robot: str) -> Inputs:
     return Inputs(optimum, frame, list(meta["objectives"]), optimum_digest(directory))
 
 
+def read_refine(path: Path) -> list[dict]:
+    """The rounds of reports/refine.json (empty with ``refine.rounds: 0``)."""
+    if not path.exists():
+        raise DataError(str(path), "no refinement report (run `ftfof refine` first)")
+    try:
+        return list(json.loads(path.read_text())["rounds"])
+    except (ValueError, KeyError, TypeError) as err:
+        raise DataError(str(path), f"unreadable refinement report ({err})") from None
+
+
+def check_models(inputs: Inputs, directory: Path, models: Path) -> None:
+    """The optimum in ``directory`` must have been found on the surrogates in ``models``."""
+    if inputs.optimum["models_digest"] != models_digest(models):
+        raise DataError(str(directory), f"was optimised on other models than {models} (re-run it)")
+
+
 def _picture(path: Path) -> str:
     from ftfof.report.html import png_data_uri
 
@@ -123,13 +141,7 @@ def _job(
 ) -> Acquisition:
     """The optimum, the sampled front rows and the baselines, resumable under ``out``."""
     on = bench(params, ctx)
-    chosen = inputs.optimum["front_row"]
-    specs, controls = [], {}
-    for source, row in [(OPTIMUM, chosen), *(("front", r) for r in front_rows)]:
-        X = decision(inputs, row)
-        spec = on.bezier(source, row, X)
-        specs.append(spec)
-        controls[spec.key] = X
+    specs, controls = front_specs(on, inputs, front_rows)
     specs += baseline_specs(on, baseline_trajectories(params, ctx))
     if ctx.robot.published_optimum is not None:  # held out: simulated, never fitted
         X = np.asarray(ctx.robot.published_optimum, dtype=float)
@@ -141,19 +153,38 @@ def _job(
     )
 
 
+def front_specs(
+    on: Bench, inputs: Inputs, front_rows: list[int]
+) -> tuple[list[SampleSpec], dict[str, np.ndarray]]:
+    """Specs of the optimum (source ``optimum``) and of ``front_rows`` (source ``front``), each
+    with its front row as sample id, and their decision vectors by key."""
+    chosen = inputs.optimum["front_row"]
+    specs, controls = [], {}
+    for source, row in [(OPTIMUM, chosen), *(("front", r) for r in front_rows)]:
+        X = decision(inputs, row)
+        spec = on.bezier(source, row, X)
+        specs.append(spec)
+        controls[spec.key] = X
+    return specs, controls
+
+
 def _track(params: Params, inputs: Inputs, summary: dict, artifacts: tuple[Path, ...]) -> None:
-    """An `evaluate` run with the table and fidelity as metrics, linked to its optimize run."""
+    """An `evaluate` run with the table and fidelity as metrics, linked to the run that wrote its
+    optimum (`refine`, or `optimize` when evaluate is pointed at the optimize stage's output)."""
     experiment = tracking.experiment_name(params.robot)
     mlflow = tracking.setup(experiment)
-    link, _ = tracking.link_tags(
-        mlflow,
-        experiment,
-        "optimize",
-        tracking.OPTIMUM_DIGEST_TAG,
-        inputs.digest,
-        tracking.OPTIMIZE_RUN_TAG,
-        "Optimum",
-    )
+    for source in ("refine", "optimize"):  # the run that wrote the optimum: refine passes it on
+        link, found = tracking.link_tags(
+            mlflow,
+            experiment,
+            source,
+            tracking.OPTIMUM_DIGEST_TAG,
+            inputs.digest,
+            tracking.OPTIMIZE_RUN_TAG,
+            "Optimum",
+        )
+        if found:
+            break
     metrics = {
         f"{name}.{key}": value
         for name, row in summary["table"].items()

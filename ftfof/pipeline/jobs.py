@@ -89,21 +89,25 @@ class Acquisition:
         inputs: dict[str, object],
     ) -> Acquisition:
         """A job over ``specs``, resumable while the physics settings and ``inputs`` hold."""
-        key = json_sha256(
-            {
-                "robot": ctx.robot.model_dump(),
-                "surface": params.selected_surface.model_dump(),
-                "platform": params.platform.model_dump(),
-                "acquire": params.acquire.model_dump(exclude={"workers", "scheduler", "batch"}),
-                "baselines": params.baselines.model_dump(),
-                "seed": params.base.seed,
-                "versions": versions(),
-                **inputs,
-            }
-        )
+        key = job_key(params, ctx, inputs)
         job = cls(params, ctx, out, specs, controls, key)
         job._open()
         return job
+
+    @staticmethod
+    def finished(
+        params: Params, ctx: RobotContext, out: Path, inputs: dict[str, object]
+    ) -> pa.Table | None:
+        """The compacted samples of a finished job of the same inputs under ``out``, if any.
+
+        For callers that keep a finished job's results (``start`` would simulate them again).
+        """
+        manifest, final = out / MANIFEST, out / FINAL
+        if not (manifest.exists() and final.exists()):
+            return None
+        if json.loads(manifest.read_text()).get("fingerprint") != job_key(params, ctx, inputs):
+            return None
+        return read_table(final, ACQUISITION, "simulations")
 
     # --- the pending area -------------------------------------------------------------------
 
@@ -212,6 +216,22 @@ class Acquisition:
         write_parquet(self.out / FINAL, table.drop_columns(["wall_time"]).cast(ACQUISITION))
         shutil.rmtree(self.pending)
         return summary
+
+
+def job_key(params: Params, ctx: RobotContext, inputs: dict[str, object]) -> str:
+    """The fingerprint of a job: the physics settings, the seed, the code and ``inputs``."""
+    return json_sha256(
+        {
+            "robot": ctx.robot.model_dump(),
+            "surface": params.selected_surface.model_dump(),
+            "platform": params.platform.model_dump(),
+            "acquire": params.acquire.model_dump(exclude={"workers", "scheduler", "batch"}),
+            "baselines": params.baselines.model_dump(),
+            "seed": params.base.seed,
+            "versions": versions(),
+            **inputs,
+        }
+    )
 
 
 def summarize(table: pa.Table, film: FilmLimit, wall: float, simulated: int) -> dict[str, object]:

@@ -8,13 +8,20 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pyarrow.parquet as pq
 
 from ftfof.config import Params
 from ftfof.optimize.problem import TrajectoryProblem
-from ftfof.optimize.search import ConvergenceRecord, SearchResult, SearchSettings, search
+from ftfof.optimize.search import (
+    ConvergenceRecord,
+    SearchResult,
+    SearchSettings,
+    search,
+    warm_population,
+)
 from ftfof.optimize.select import (
     Outcome,
     choose,
@@ -32,6 +39,9 @@ from ftfof.robot import RobotContext, robot_context
 from ftfof.seeds import seed_for
 from ftfof.sim.film import film_limit
 
+if TYPE_CHECKING:
+    from ftfof.surrogate.predict import Surrogate
+
 
 @dataclass
 class Setup:
@@ -42,7 +52,7 @@ class Setup:
     settings: SearchSettings
     initial: np.ndarray | None  # free-variable rows, or None for pymoo's uniform start
     models_digest: str
-    registered: RegisteredWeights  # the model version resolved by alias
+    registered: RegisteredWeights | None  # the model version resolved by alias (None in refine)
 
 
 @dataclass(frozen=True)
@@ -55,13 +65,32 @@ class Outputs:
 
 
 def prepare(params: Params, models: Path) -> Setup:
+    """The stage's search: the surrogates the registry's alias names, checked against ``models``."""
     from ftfof.surrogate.store import load_surrogate
-    from ftfof.trajectory.sampling import sample_feasible
 
-    ctx = robot_context(params)
     mlflow = tracking.setup(tracking.experiment_name(params.robot))
     registered = fetch_model(mlflow, params.robot, params.train.use, params.train.alias, models)
     surrogate = load_surrogate(models, params.train.use, registered.path)
+    return build_setup(params, surrogate, models_digest(models), registered)
+
+
+def build_setup(
+    params: Params,
+    surrogate: Surrogate,
+    digest: str,
+    registered: RegisteredWeights | None = None,
+    *,
+    warm_start_front: np.ndarray | None = None,
+    generations: int | None = None,
+) -> Setup:
+    """A search on ``surrogate`` (whose model directory has ``digest``) with params' settings.
+
+    ``warm_start_front`` (full decision rows of a previous front) seeds the first population, filled
+    up with feasible draws; ``generations`` overrides ``optimize.generations``.
+    """
+    from ftfof.trajectory.sampling import sample_feasible
+
+    ctx = robot_context(params)
     cfg = params.optimize
     robot = ctx.robot
     problem = TrajectoryProblem(
@@ -79,7 +108,7 @@ def prepare(params: Params, models: Path) -> Setup:
     seed = seed_for(params.search_seed, "optimize")
     settings = SearchSettings(
         population=cfg.population,
-        generations=cfg.generations,
+        generations=generations or cfg.generations,
         seed=seed,
         crossover_eta=cfg.crossover_eta,
         crossover_prob=cfg.crossover_prob,
@@ -87,11 +116,29 @@ def prepare(params: Params, models: Path) -> Setup:
         log_every=cfg.log_every,
     )
     initial = None
-    if cfg.seeded_start:
-        s = params.sample
+    s = params.sample
+    if warm_start_front is not None:
+        front = ctx.policy.contract(warm_start_front)
+        need = max(cfg.population - len(front), 0)
+        fill = np.empty((0, ctx.policy.n_free))
+        if need:
+            fill_seed = seed_for(params.search_seed, "refine")
+            drawn = sample_feasible(ctx.policy, need, fill_seed, s.design, s.batch, s.max_draws)
+            fill = ctx.policy.contract(drawn.X)
+        initial = warm_population(front, fill, cfg.population)
+    elif cfg.seeded_start:
         drawn = sample_feasible(ctx.policy, cfg.population, seed, s.design, s.batch, s.max_draws)
         initial = ctx.policy.contract(drawn.X)
-    return Setup(ctx, problem, settings, initial, models_digest(models), registered)
+    return Setup(ctx, problem, settings, initial, digest, registered)
+
+
+def write_front(out: Path, outcome: Outcome, setup: Setup, params: Params) -> None:
+    """``front.parquet`` and ``optimum.json`` in ``out``, all or nothing: what evaluate reads."""
+    digest = setup.models_digest
+    with atomic_dir(out) as tmp:
+        pq.write_table(front_table(outcome, setup.ctx, digest), tmp / "front.parquet")
+        optimum = optimum_record(outcome, setup.ctx, params.optimize, digest)
+        (tmp / "optimum.json").write_text(json.dumps(optimum, indent=2, sort_keys=True) + "\n")
 
 
 def write_outputs(
@@ -108,11 +155,7 @@ def write_outputs(
         to.pcp: pcp_figure(F, names, chosen, title),
     }
     records = [r.as_dict() for r in result.history]
-    digest = setup.models_digest
-    with atomic_dir(to.out) as tmp:
-        pq.write_table(front_table(outcome, setup.ctx, digest), tmp / "front.parquet")
-        optimum = optimum_record(outcome, setup.ctx, params.optimize, digest)
-        (tmp / "optimum.json").write_text(json.dumps(optimum, indent=2, sort_keys=True) + "\n")
+    write_front(to.out, outcome, setup, params)
     write_json(to.metrics, outcome.summary)
     with atomic_path(to.convergence) as path:
         path.write_text(convergence_csv(records))

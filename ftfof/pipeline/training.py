@@ -6,12 +6,16 @@ from __future__ import annotations
 import multiprocessing
 import os
 import time
+from collections.abc import Mapping
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from ftfof.config import Params, Train
+from ftfof.errors import DataError
 from ftfof.pipeline import tracking
 from ftfof.pipeline.digests import models_digest
 from ftfof.pipeline.registry import model_name
@@ -26,10 +30,24 @@ class Training:
     wall: float  # seconds
 
 
-def train_all(params: Params, data: TrainingData) -> Training:
-    """Train the multi-output model with every loss, on the same split and seed."""
+def train_all(
+    params: Params,
+    data: TrainingData,
+    *,
+    warm_start: Mapping[str, dict[str, np.ndarray]] | None = None,
+) -> Training:
+    """Train the multi-output model with every loss, on the same split and seed.
+
+    ``warm_start`` maps each loss to the state dict its model fine-tunes from (every loss must be
+    there); without it every model starts from its seeded initialisation.
+    """
     cfg = params.train
     jobs = [{"kind": k, "seed": seed_for(params.search_seed, "train", 0)} for k in cfg.losses]
+    if warm_start is not None:
+        for job in jobs:
+            if job["kind"] not in warm_start:
+                raise DataError("warm start", f"no weights for the {job['kind']} loss")
+            job["warm_start"] = warm_start[job["kind"]]
     started = time.perf_counter()
     results = run_jobs(jobs, data, cfg)
     wall = time.perf_counter() - started
@@ -72,12 +90,22 @@ def _train_one(job: dict, data: TrainingData, cfg: Train, threads: int) -> dict:
     numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
     x_tr, y_tr = data.inputs("train"), data.targets("train")
     x_va, y_va = data.inputs("validation"), data.targets("validation")
-    trained = train_model(x_tr, y_tr, x_va, y_va, job["kind"], cfg, job["seed"], TARGETS)
+    trained = train_model(
+        x_tr,
+        y_tr,
+        x_va,
+        y_va,
+        job["kind"],
+        cfg,
+        job["seed"],
+        TARGETS,
+        warm_start=job.get("warm_start"),
+    )
     scale = np.asarray(data.target_scale)
     pred = predict(trained.model, x_va) * scale
     truth = y_va * scale
     return {
-        **job,
+        **{k: v for k, v in job.items() if k != "warm_start"},
         "state": {k: v.numpy() for k, v in trained.model.state_dict().items()},
         "history": {
             "train": trained.history.train,

@@ -125,6 +125,25 @@ def write_models(out: Path, results: list[dict[str, Any]], data: TrainingData, c
         (tmp / "config.json").write_text(json.dumps(config, indent=2, sort_keys=True) + "\n")
 
 
+def load_states(directory: Path) -> dict[str, dict[str, np.ndarray]]:
+    """Every model's state dict in ``directory`` as NumPy arrays, by loss: what a fine-tuning
+    starts from."""
+    import torch
+
+    config_path = directory / "config.json"
+    if not config_path.exists():
+        raise DataError(str(directory), "no trained models (run `ftfof train` first)")
+    config = json.loads(config_path.read_text())
+    out = {}
+    for loss in config["losses"]:
+        path = directory / weights_file(loss)
+        if not path.exists():
+            raise DataError(str(path), f"missing model for the {loss} loss")
+        state = torch.load(path, weights_only=True)
+        out[loss] = {k: v.numpy() for k, v in state.items()}
+    return out
+
+
 def load_surrogate(
     directory: Path, loss: str | None = None, weights: Path | None = None
 ) -> Surrogate:

@@ -97,11 +97,14 @@ def train_model(
     seed: int,
     targets: Sequence[str],
     on_epoch: Callable[[int, float, float], None] | None = None,
+    warm_start: dict[str, NDArray] | None = None,
 ) -> Trained:
     """Fit one ForceGRU (inputs (n, N, 4), targets (n, N, K) named ``targets``, normalised,
     NaN where a sample does not supply one).
 
-    Early stopping keeps the weights of the epoch with the lowest validation loss.
+    Early stopping keeps the weights of the epoch with the lowest validation loss. ``warm_start``
+    (a state dict) fine-tunes those weights instead of a fresh initialisation; they count as epoch
+    -1, so fine-tuning that never beats them on validation returns them unchanged.
     """
     import time
 
@@ -116,7 +119,10 @@ def train_model(
             dropout=settings.dropout,
             outputs=len(targets),
         )
-    ).to(dev)
+    )
+    if warm_start is not None:
+        model.load_state_dict({k: torch.as_tensor(np.asarray(v)) for k, v in warm_start.items()})
+    model = model.to(dev)
     opt = torch.optim.Adam(model.parameters(), lr=settings.lr, weight_decay=settings.weight_decay)
     crit = loss_fn(kind, settings, targets)
     xt, yt = torch.tensor(x_train, device=dev), torch.tensor(y_train, device=dev)
@@ -124,6 +130,11 @@ def train_model(
     gen = torch.Generator().manual_seed(seed)
     history = History()
     best, best_state, waited = np.inf, copy.deepcopy(model.state_dict()), 0
+    if warm_start is not None:
+        model.eval()
+        with torch.no_grad():
+            best = float(crit(model(xv), yv))
+        history.best_epoch = -1
     for epoch in range(settings.epochs):
         model.train()
         order = torch.randperm(len(xt), generator=gen).to(dev)

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from ftfof.data.targets import time_base
-from ftfof.evaluate.fidelity import fidelity, simulated_objectives
+from ftfof.evaluate.fidelity import fidelity, relative_error, simulated_objectives, target_met
 from ftfof.trajectory.sampling import sample_feasible
 
 
@@ -24,6 +24,17 @@ def test_constant_column_has_no_rank_correlation_and_shapes_are_checked():
     assert np.isnan(fidelity(["a"], s, s)[0].spearman)
     with pytest.raises(ValueError, match="must both be"):
         fidelity(["a", "b"], s, s)
+
+
+def test_the_target_needs_rank_median_and_optimum_alike():
+    s = np.arange(1.0, 6.0)[:, None]
+    good = fidelity(["fs1"], 1.1 * s, s)[0]  # rho 1, every point 10 % off
+    assert relative_error(1.1, 1.0) == pytest.approx(0.1) and np.isnan(relative_error(1.0, 0.0))
+    assert target_met(good, 0.1, 0.9, 0.15)
+    assert not target_met(good, 0.2, 0.9, 0.15)  # the optimum itself too far off
+    assert not target_met(good, 0.1, 0.9, 0.05)  # the median too far off
+    assert not target_met(fidelity(["fs1"], s[::-1], s)[0], 0.0, 0.9, 10.0)  # ranks reversed
+    assert not target_met(fidelity(["fs1"], np.ones((5, 1)), s)[0], 0.0, -1.0, 10.0)  # NaN rho
 
 
 def test_simulated_objectives_bin_the_channels_like_the_dataset(m3f):

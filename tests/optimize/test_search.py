@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from ftfof.optimize.problem import TrajectoryProblem
-from ftfof.optimize.search import Convergence, SearchSettings, search
+from ftfof.optimize.search import Convergence, SearchSettings, search, warm_population
 from ftfof.trajectory.sampling import sample_feasible
 
 SETTINGS = SearchSettings(population=24, generations=12, seed=7, log_every=5)
@@ -58,3 +58,24 @@ def test_hypervolume_is_normalised_by_the_first_generation():
     assert convergence.hypervolume(np.empty((0, 2))) == 0.0
     assert convergence.hypervolume(np.array([[0.0, 0.0]])) == pytest.approx(1.0)
     assert convergence.hypervolume(np.array([[0.55, 0.55]])) == pytest.approx(0.25)
+
+
+def test_warm_population_puts_the_front_first_then_fills():
+    front = np.array([[1.0, 1.0], [2.0, 2.0], [1.0, 1.0], [3.0, 3.0]])
+    fill = np.array([[9.0, 9.0], [8.0, 8.0], [7.0, 7.0]])
+    pop = warm_population(front, fill, 5)
+    np.testing.assert_array_equal(pop, [[1, 1], [2, 2], [3, 3], [9, 9], [8, 8]])  # distinct
+    spread = warm_population(np.arange(10.0)[:, None], fill, 4)
+    np.testing.assert_array_equal(spread[:, 0], [0, 3, 6, 9])  # ends kept, evenly between
+    with pytest.raises(ValueError, match="fewer than"):
+        warm_population(front, fill[:1], 5)
+
+
+def test_a_search_warm_started_from_a_front_keeps_its_best_first_objective(problem, initial):
+    first = search(problem, SETTINGS, initial)
+    fill = initial[: SETTINGS.population]
+    warm = warm_population(first.X, fill, SETTINGS.population)
+    short = SearchSettings(population=24, generations=3, seed=9, log_every=5)
+    again = search(problem, short, warm)
+    # NSGA-II keeps the extremes of its first front: nothing the last search found is lost
+    assert again.feasible and again.F[:, 0].min() <= first.F[:, 0].min()

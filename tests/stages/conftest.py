@@ -1,4 +1,4 @@
-"""Fixtures shared by the stage tests: an optimised and evaluated tiny run (module-scoped)."""
+"""Fixtures shared by the stage tests: an optimised, refined (no rounds) and evaluated tiny run."""
 
 import copy
 import shutil
@@ -19,6 +19,7 @@ def evaluated(trained, tmp_path_factory):
     data = copy.deepcopy(data)
     data["optimize"] = {**data["optimize"], **TINY_OPTIMIZE}
     data["evaluate"] = {**data["evaluate"], "front_points": 2, "export_rate_hz": 200}
+    data["refine"] = {**data["refine"], "rounds": 0}
     data["acquire"] = {**data["acquire"], "workers": 2}
     work = tmp_path_factory.mktemp("evaluate")
     params = write_params(work / "params.yaml", data)
@@ -39,11 +40,24 @@ def evaluated(trained, tmp_path_factory):
     env = {"MLFLOW_TRACKING_URI": uri}
     result = runner.invoke(app, optimize, env=env)
     assert result.exit_code == 0, result.output
+    refine = cli_args(
+        "refine",
+        params,
+        dataset=tmp / "ds",
+        models=tmp / "models",
+        optimize=work / "optimize",
+        out=work / "refine",
+        report=work / "refine.json",
+        figure=figures / "refine_fidelity.png",
+    )
+    result = runner.invoke(app, refine, env=env)  # refine.rounds: 0 passes the optimum on
+    assert result.exit_code == 0, result.output
     evaluate = cli_args(
         "evaluate",
         params,
-        optimize=work / "optimize",
-        models=tmp / "models",
+        optimize=work / "refine" / "optimize",
+        models=work / "refine" / "models",
+        refine=work / "refine.json",
         figures=figures,
         out=work / "sims",
         report=work / "report.html",

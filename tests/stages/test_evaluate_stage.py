@@ -26,7 +26,7 @@ def test_report_is_self_contained_and_every_image_decodes(evaluated):
     html = (work / "report.html").read_text()
     assert not re.search(r"(?:https?:)?//[a-z0-9.-]+\.[a-z]{2,}", html, re.I), "external URL"
     sources = re.findall(r"""<img[^>]+src=["']([^"']+)["']""", html)
-    assert len(sources) == 9  # paths, forces, jitter, fidelity, 3 Pareto, 2 training
+    assert len(sources) == 10  # paths, forces, jitter, fidelity, refinement, 3 Pareto, 2 training
     for src in sources:
         assert src.startswith("data:image/png;base64,")
         image = Image.open(io.BytesIO(base64.b64decode(src.split(",", 1)[1])))
@@ -62,14 +62,17 @@ def test_metrics_table_and_controller_export(evaluated):
     assert metrics["export"]["rows"] == csv.shape[0]
 
 
-def test_mlflow_run_links_the_optimize_run(evaluated):
+def test_mlflow_run_links_the_run_that_passed_its_optimum_on(evaluated):
     _, uri, _, _ = evaluated
     import mlflow
 
     client = mlflow.MlflowClient(tracking_uri=uri)
     experiment = client.get_experiment_by_name("ftfof-mst_m3f")
     (run,) = client.search_runs([experiment.experiment_id], "attributes.run_name = 'evaluate'")
-    source = client.get_run(run.data.tags["ftfof.optimize_run"])
+    refine = client.get_run(run.data.tags["ftfof.optimize_run"])  # refine, with no rounds here
+    assert refine.info.run_name == "refine"
+    assert refine.data.tags["ftfof.optimum_digest"] == run.data.tags["ftfof.optimum_digest"]
+    source = client.get_run(refine.data.tags["ftfof.optimize_run"])
     assert source.info.run_name == "optimize"
     assert source.data.tags["ftfof.optimum_digest"] == run.data.tags["ftfof.optimum_digest"]
     assert "optimum.peak_detachment_change" in run.data.metrics

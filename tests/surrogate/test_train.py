@@ -83,3 +83,22 @@ def test_mse_weighs_each_target_on_its_own_samples():
     pred = torch.zeros(2, 4, 2)
     target = torch.tensor([[[1.0, 2.0]] * 4, [[1.0, float("nan")]] * 4])
     assert loss_fn("mse", config.Train(), NAMES)(pred, target).item() == pytest.approx(1 + 4)
+
+
+@pytest.mark.integration  # trains a GRU
+def test_a_warm_start_fine_tunes_from_its_weights_and_never_returns_worse():
+    x, y = _toy(48, 0)
+    xv, yv = _toy(16, 1)
+    settings = config.Train(hidden=8, epochs=6, batch=16, lr=1e-2, patience=6)
+    trained = train_model(x, y, xv, yv, "mse", settings, 3, NAMES)
+    state = {k: v.numpy() for k, v in trained.model.state_dict().items()}
+    # fine-tuning from those weights starts where they are, not from a fresh initialisation
+    one = settings.model_copy(update={"epochs": 1})
+    tuned = train_model(x, y, xv, yv, "mse", one, 4, NAMES, warm_start=state)
+    assert tuned.history.validation[0] < trained.history.validation[0]
+    # a step so large it can only do harm: the warm-start weights come back untouched
+    harmful = settings.model_copy(update={"epochs": 2, "lr": 50.0})
+    kept = train_model(x, y, xv, yv, "mse", harmful, 4, NAMES, warm_start=state)
+    assert kept.history.best_epoch == -1
+    for key, value in kept.model.state_dict().items():
+        np.testing.assert_array_equal(value.numpy(), state[key])

@@ -1,0 +1,380 @@
+"""The `refine` run: simulate where the optimiser went, train there, search again.
+
+Each round re-simulates the current optimum and front members spread along its front (a resumable
+acquisition job), measures the surrogates' fidelity on them *before* training on them, appends them
+to the training split (source ``refine:<k>``), fine-tunes the surrogates from their weights and
+re-runs NSGA-II from the previous front. It stops after ``refine.rounds`` rounds, or earlier once
+the fidelity target on the first-priority objective is met; the models and optimum that met it
+are then kept as they are.
+
+``<out>/`` holds one directory per round (``simulations/``, ``models/``, ``optimize/``,
+``round.json``) and the final ``models/``, ``optimize/`` and grown ``dataset/`` that `evaluate`
+reads. A killed run re-run with the same inputs resumes: finished rounds are kept and a round's
+finished simulations are not run again. A run that completed starts afresh, as `acquire` does, so
+`dvc repro --force` recomputes.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import pyarrow as pa
+import pyarrow.parquet as pq
+
+from ftfof.config import Params
+from ftfof.data import dataset as ds
+from ftfof.data.acquisition import ACQUISITION
+from ftfof.data.refinement import grow, round_rows
+from ftfof.errors import DataError, SimulationError
+from ftfof.evaluate.fidelity import Fidelity, relative_error, target_met
+from ftfof.evaluate.run import OPTIMUM, Inputs, fidelity_of, front_sample
+from ftfof.pipeline import tracking
+from ftfof.pipeline.bench import bench
+from ftfof.pipeline.console import console
+from ftfof.pipeline.digests import file_sha256, json_sha256, models_digest, optimum_digest
+from ftfof.pipeline.evaluate import check_models, front_specs, read_inputs
+from ftfof.pipeline.io import atomic_dir, read_table, save_figure, write_json
+from ftfof.pipeline.jobs import FINAL, Acquisition, versions
+from ftfof.robot import RobotContext, robot_context
+from ftfof.seeds import seed_for
+from ftfof.surrogate.store import FILE, TrainingData, read_dataset
+
+MANIFEST = "manifest.json"
+ROUND = "round.json"
+DIGITS = 6  # of the fidelity numbers in round.json and the report
+
+
+@dataclass(frozen=True)
+class Paths:
+    dataset: Path  # the dataset stage's directory
+    models: Path  # the train stage's models
+    optimize: Path  # the optimize stage's front and optimum
+    out: Path  # data/refine
+    report: Path  # reports/refine.json
+    figure: Path  # fidelity against round (PNG)
+
+
+@dataclass
+class Round:
+    """One round as the report shows it."""
+
+    record: dict[str, Any]  # the report's entry but the seconds (kept out of data/refine)
+    target_met: bool  # the fidelity target held: nothing was added, the models were kept
+    simulated: int  # simulations run by this invocation
+    seconds: float = 0.0
+
+
+@dataclass
+class State:
+    """What the rounds so far left: the models and front the next round starts from."""
+
+    models: Path
+    front: Path
+    added: list[pa.Table] = field(default_factory=list)  # each round's training rows
+
+
+def run(params: Params, paths: Paths, workers: int | None = None) -> dict[str, Any]:
+    """Refine; write ``paths.out``, the report and its figure; track in MLflow. The report."""
+    from ftfof.report.refine import refine_figure
+
+    ctx = robot_context(params)
+    data = read_dataset(paths.dataset)
+    inputs = read_inputs(paths.optimize, ctx.name)
+    check_models(inputs, paths.optimize, paths.models)
+    if (params.dataset.seq_len, params.dataset.hold) != (data.seq_len, data.hold):
+        raise DataError(str(paths.dataset), "was built with other dataset params (re-run it)")
+    key = _open(params, paths)
+    state = State(paths.models, paths.optimize)
+    rounds: list[Round] = []
+    for k in range(1, params.refine.rounds + 1):
+        started = time.perf_counter()
+        done = _round(params, ctx, paths.out / f"round-{k}", k, key, data, state, workers)
+        done.seconds = time.perf_counter() - started
+        rounds.append(done)
+        _say(done, inputs.objectives[0])
+        if done.target_met:
+            break
+    _publish(paths, state, data)
+    report = {"rounds": [{**r.record, "seconds": round(r.seconds, 2)} for r in rounds]}
+    write_json(paths.report, report)
+    save_figure(refine_figure(report["rounds"], inputs.objectives), paths.figure)
+    _track(params, paths, report["rounds"], (paths.report, paths.figure))
+    write_json(paths.out / MANIFEST, {"fingerprint": key, "complete": True})
+    return report
+
+
+def _open(params: Params, paths: Paths) -> str:
+    """The run's fingerprint; ``paths.out`` is kept only to resume an interrupted run of it."""
+    key = json_sha256(
+        {
+            "params": params.model_dump(
+                exclude={
+                    "acquire": {"workers", "scheduler", "batch"},
+                    "evaluate": True,
+                    "logs": True,
+                }
+            ),
+            "dataset": file_sha256(paths.dataset / FILE),
+            "models": models_digest(paths.models),
+            "optimum": optimum_digest(paths.optimize),
+            "versions": versions(),
+        }
+    )
+    manifest = paths.out / MANIFEST
+    saved = json.loads(manifest.read_text()) if manifest.exists() else {}
+    if saved.get("fingerprint") != key or saved.get("complete", True):
+        if paths.out.exists():
+            shutil.rmtree(paths.out)
+        write_json(manifest, {"fingerprint": key, "complete": False})
+    return key
+
+
+def _round(
+    params: Params,
+    ctx: RobotContext,
+    rdir: Path,
+    k: int,
+    key: str,
+    data: TrainingData,
+    state: State,
+    workers: int | None,
+) -> Round:
+    """Round ``k`` (or what a finished one left); advances ``state`` unless the target was met."""
+    saved = rdir / ROUND
+    if saved.exists():
+        done = json.loads(saved.read_text())
+        if not done["target_met"]:
+            table = read_table(rdir / "simulations" / FINAL, ACQUISITION, "simulations")
+            _advance(state, rdir, _rows(params, table, k))
+        return Round(done["record"], done["target_met"], 0)
+    from ftfof.surrogate.store import load_surrogate
+
+    inputs = read_inputs(state.front, ctx.name)
+    rows = front_sample(inputs, params.refine.points)
+    table, simulated = _simulate(params, ctx, rdir / "simulations", inputs, rows, key, k, workers)
+    ok = _ok(table)
+    fid, predicted, measured = fidelity_of(inputs, ok, ctx, load_surrogate(state.models))
+    names = inputs.objectives
+    met = target_met(
+        fid[0],
+        relative_error(predicted[0, 0], measured[0, 0]),
+        params.refine.target.spearman,
+        params.refine.target.relative_error,
+    )
+    added = 0
+    if not met:
+        new = _rows(params, table, k)
+        added = new.num_rows
+        grown = TrainingData(
+            grow(data.table, [*state.added, new]),
+            data.normalization,
+            data.seq_len,
+            data.hold,
+            json_sha256({"dataset": data.metadata_digest, "refine": key, "round": k}, 16),
+        )
+        _fine_tune(params, grown, state.models, rdir / "models")
+        _search(params, rdir / "models", inputs, rdir / "optimize")
+        _advance(state, rdir, new)
+    record = _record(k, added, fid, names, predicted[0], measured[0])
+    write_json(saved, {"record": record, "target_met": met})
+    return Round(record, met, simulated)
+
+
+def _record(
+    k: int, added: int, fid: list[Fidelity], names: list[str], predicted, simulated
+) -> dict[str, Any]:
+    """A round's entry of reports/refine.json, but the seconds."""
+
+    def by_name(values) -> dict[str, float]:
+        return {n: round(float(v), DIGITS) for n, v in zip(names, values, strict=True)}
+
+    return {
+        "round": k,
+        "added": added,
+        "fidelity": {
+            f.objective: {
+                "mae": round(f.mean_abs_error, DIGITS),
+                "median_relative_error": round(f.median_relative_error, DIGITS),
+                "spearman": round(f.spearman, DIGITS),
+            }
+            for f in fid
+        },
+        "optimum": {"predicted": by_name(predicted), "simulated": by_name(simulated)},
+    }
+
+
+def _advance(state: State, rdir: Path, rows: pa.Table) -> None:
+    state.models, state.front = rdir / "models", rdir / "optimize"
+    state.added.append(rows)
+
+
+def _simulate(
+    params: Params,
+    ctx: RobotContext,
+    out: Path,
+    inputs: Inputs,
+    rows: list[int],
+    key: str,
+    k: int,
+    workers: int | None,
+) -> tuple[pa.Table, int]:
+    """The round's simulations (optimum and ``rows``), resumed or kept if finished."""
+    job_inputs = {"refine": key, "round": k, "optimum": inputs.digest, "front_rows": rows}
+    finished = Acquisition.finished(params, ctx, out, job_inputs)
+    if finished is not None:
+        return finished, 0
+    specs, controls = front_specs(bench(params, ctx), inputs, rows)
+    job = Acquisition.start(params, ctx, out, specs, controls, job_inputs)
+    todo = job.remaining()
+    cfg = params.acquire
+    n_workers = cfg.workers if workers is None else workers
+    wall = job.simulate(todo, n_workers, cfg.scheduler, f"refine round {k}")
+    job.finish(wall, len(todo))
+    return read_table(out / FINAL, ACQUISITION, "simulations"), len(todo)
+
+
+def _ok(table: pa.Table):
+    """The successful simulations as a DataFrame; the optimum's must be among them."""
+    df = table.to_pandas()
+    optimum = df[df.source == OPTIMUM]
+    if optimum.empty or optimum.iloc[0].status != "ok":
+        error = optimum.iloc[0].error if not optimum.empty else "missing"
+        raise SimulationError(OPTIMUM, f"re-simulation failed: {error}")
+    return df[df.status == "ok"]
+
+
+def _rows(params: Params, table: pa.Table, k: int) -> pa.Table:
+    """A round's successful simulations as training rows of the dataset."""
+    built, _ = ds.build(table, params.dataset, seed_for(params.base.seed, "split"))
+    return round_rows(built, k)
+
+
+def _fine_tune(params: Params, data: TrainingData, start: Path, out: Path) -> None:
+    """The ``train.use`` models fine-tuned on ``data`` from the weights in ``start`` -> ``out``."""
+    from ftfof.pipeline.training import train_all
+    from ftfof.surrogate.store import load_states, write_models
+
+    cfg = params.refine
+    tune = params.train.model_copy(
+        update={
+            "losses": [params.train.use],
+            "epochs": cfg.epochs,
+            "patience": cfg.patience,
+            "lr": cfg.lr,
+        }
+    )
+    states = {loss: s for loss, s in load_states(start).items() if loss == params.train.use}
+    run = train_all(params.model_copy(update={"train": tune}), data, warm_start=states)
+    write_models(out, run.results, data, tune)
+
+
+def _search(params: Params, models: Path, inputs: Inputs, out: Path) -> None:
+    """NSGA-II on the fine-tuned ``models`` from the previous front, then RHS with the simulator's
+    check, as `optimize` chooses -> ``out``."""
+    from ftfof.optimize.search import search
+    from ftfof.optimize.select import choose
+    from ftfof.pipeline.optimize import build_setup, write_front
+    from ftfof.pipeline.simcheck import simulator_check
+    from ftfof.surrogate.store import load_surrogate
+    from ftfof.trajectory.bezier import DECISION_NAMES
+
+    setup = build_setup(
+        params,
+        load_surrogate(models),
+        models_digest(models),
+        warm_start_front=inputs.front[list(DECISION_NAMES)].to_numpy(dtype=float),
+        generations=params.refine.generations,
+    )
+    result = search(setup.problem, setup.settings, setup.initial)
+    check = simulator_check(params, setup.ctx)  # as optimize: the simulator disposes
+    outcome = choose(params, setup.ctx, setup.problem, result, setup.models_digest, check)
+    write_front(out, outcome, setup, params)
+
+
+def _publish(paths: Paths, state: State, data: TrainingData) -> None:
+    """The final models, optimum and grown dataset, each directory whole or not at all."""
+    for name, source in (("models", state.models), ("optimize", state.front)):
+        with atomic_dir(paths.out / name) as tmp:
+            for item in sorted(source.iterdir()):
+                if item.is_file():
+                    shutil.copy(item, tmp / item.name)
+    original = paths.dataset / FILE
+    with atomic_dir(paths.out / "dataset") as tmp:
+        if state.added:
+            grown = grow(data.table, state.added)
+            metadata = pq.read_schema(original).metadata
+            pq.write_table(grown.replace_schema_metadata(metadata), tmp / FILE)
+        else:
+            shutil.copy(original, tmp / FILE)
+
+
+def _say(done: Round, first: str) -> None:
+    r = done.record
+    f = r["fidelity"][first]
+    opt = r["optimum"]
+    console.print(
+        f"round {r['round']}: {done.simulated} simulated now; {first} rho {f['spearman']:.3f}, "
+        f"median relative error {100 * f['median_relative_error']:.1f} %, optimum "
+        f"{opt['predicted'][first]:.4g} predicted vs {opt['simulated'][first]:.4g} simulated; "
+        + ("target met, stop" if done.target_met else f"{r['added']} added")
+        + f"; {done.seconds:.1f} s"
+    )
+
+
+def _track(
+    params: Params, paths: Paths, rounds: list[dict[str, Any]], artifacts: tuple[Path, ...]
+) -> None:
+    """A parent run for the invocation and a child per round, linked to the runs that made
+    their models and fronts (train and optimize for the first round, the previous round after)."""
+    experiment = tracking.experiment_name(params.robot)
+    mlflow = tracking.setup(experiment)
+
+    def find(source: str, tag: str, digest: str) -> str:
+        return tracking.latest_run(mlflow, experiment, source, tag, digest) or "unknown"
+
+    train_run = find("train", tracking.MODELS_DIGEST_TAG, models_digest(paths.models))
+    optimize_run = find("optimize", tracking.OPTIMUM_DIGEST_TAG, optimum_digest(paths.optimize))
+    tags = tracking.tags("refine")
+    parent_tags = {
+        **tags,
+        tracking.SURROGATE_RUN_TAG: train_run,
+        tracking.OPTIMIZE_RUN_TAG: optimize_run,
+        tracking.MODELS_DIGEST_TAG: models_digest(paths.out / "models"),
+        tracking.OPTIMUM_DIGEST_TAG: optimum_digest(paths.out / "optimize"),
+    }
+    with mlflow.start_run(run_name="refine", tags=parent_tags):
+        settings = {"refine": params.refine.model_dump(), "robot": params.robot}
+        mlflow.log_params(tracking.flatten({**settings, "surface": params.surface}))
+        mlflow.log_metric("rounds", len(rounds))
+        for path in artifacts:
+            mlflow.log_artifact(str(path), artifact_path="report")
+        links = {tracking.SURROGATE_RUN_TAG: train_run, tracking.OPTIMIZE_RUN_TAG: optimize_run}
+        for r in rounds:
+            rdir = paths.out / f"round-{r['round']}"
+            with mlflow.start_run(
+                run_name=f"refine-{r['round']}",
+                nested=True,
+                tags={**tags, **links, "round": str(r["round"])},
+            ) as child:
+                mlflow.log_metrics(_metrics(r))
+                if (rdir / "models").is_dir():
+                    mlflow.log_artifacts(str(rdir / "models"), artifact_path="models")
+                    mlflow.set_tag(tracking.MODELS_DIGEST_TAG, models_digest(rdir / "models"))
+                    mlflow.set_tag(tracking.OPTIMUM_DIGEST_TAG, optimum_digest(rdir / "optimize"))
+                    run_id = child.info.run_id
+                    links = {tracking.SURROGATE_RUN_TAG: run_id, tracking.OPTIMIZE_RUN_TAG: run_id}
+
+
+def _metrics(record: dict[str, Any]) -> dict[str, float]:
+    """A round's numbers as MLflow metrics (NaN left out: MLflow rejects it)."""
+    out = {"added": float(record["added"]), "seconds": float(record["seconds"])}
+    for name, values in record["fidelity"].items():
+        out.update({f"fidelity.{name}.{k}": float(v) for k, v in values.items()})
+    for kind, values in record["optimum"].items():
+        out.update({f"optimum.{kind}.{n}": float(v) for n, v in values.items()})
+    return {k: v for k, v in out.items() if v == v}

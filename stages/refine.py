@@ -1,0 +1,45 @@
+"""Stage `refine`: re-simulate the front, grow the dataset there, fine-tune, search again.
+
+The loop is :mod:`ftfof.pipeline.refine`; each round's simulations are a resumable job under
+``data/refine/round-<k>/``, and ``data/refine/{models,optimize}`` are what `evaluate` reads.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from stages.common import ParamsOption, console, stage
+
+DATASET = Path("data/dataset")
+MODELS = Path("data/models")
+OPTIMIZE = Path("data/optimize")
+OUT = Path("data/refine")
+REPORT = Path("reports/refine.json")
+FIGURE = Path("reports/refine_fidelity.png")
+
+
+@stage
+def command(
+    params_path: Annotated[Path, ParamsOption] = Path("params.yaml"),
+    dataset: Annotated[Path, typer.Option(help="The dataset stage's directory.")] = DATASET,
+    models: Annotated[Path, typer.Option(help="The train stage's models.")] = MODELS,
+    optimize: Annotated[Path, typer.Option(help="The optimize stage's directory.")] = OPTIMIZE,
+    out: Annotated[Path, typer.Option(help="Rounds and final models, optimum, dataset.")] = OUT,
+    report: Annotated[Path, typer.Option(help="Fidelity per round (JSON).")] = REPORT,
+    figure: Annotated[Path, typer.Option(help="Fidelity against round (PNG).")] = FIGURE,
+    workers: Annotated[int | None, typer.Option(help="Override acquire.workers.")] = None,
+) -> None:
+    """Simulate where the optimiser went, train there (warm start) and search again."""
+    from ftfof.pipeline.params_file import load_params
+    from ftfof.pipeline.refine import Paths, run
+
+    params = load_params(params_path)
+    rounds = run(params, Paths(dataset, models, optimize, out, report, figure), workers)["rounds"]
+    total = sum(r["seconds"] for r in rounds)
+    console.print(
+        f"refine: {len(rounds)} of {params.refine.rounds} rounds, "
+        f"{sum(r['added'] for r in rounds)} samples added in {total:.0f} s -> {out}"
+    )

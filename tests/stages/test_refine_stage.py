@@ -1,0 +1,196 @@
+"""Stage `refine`: rounds append re-simulated front rows to training, fine-tune and search again;
+validation never changes; a killed round resumes without losing or re-simulating samples."""
+
+import copy
+import json
+
+import mlflow
+import pandas as pd
+import pyarrow.parquet as pq
+import pytest
+from typer.testing import CliRunner
+
+from ftfof.pipeline.digests import models_digest
+from ftfof.pipeline.jobs import Acquisition
+from stages.cli import app
+from tests.conftest import cli_args, write_params
+from tests.stages.conftest import TINY_OPTIMIZE
+
+pytestmark = pytest.mark.integration
+
+runner = CliRunner()
+# A target no surrogate meets: every round runs.
+UNREACHABLE = {"spearman": 1.0, "relative_error": 1e-12}
+REFINE = {"rounds": 2, "points": 3, "epochs": 2, "patience": 1, "generations": 3}
+
+
+@pytest.fixture(scope="module")
+def optimized(trained, tmp_path_factory):
+    """The shared tiny dataset and models, optimised; simulations one at a time, one per part."""
+    tmp, uri, data = trained
+    data = copy.deepcopy(data)
+    data["optimize"] = {**data["optimize"], **TINY_OPTIMIZE}
+    data["acquire"] = {**data["acquire"], "workers": 1, "batch": 1}
+    data["refine"] = {**data["refine"], **REFINE, "target": UNREACHABLE}
+    work = tmp_path_factory.mktemp("refine")
+    params = write_params(work / "params.yaml", data)
+    args = cli_args(
+        "optimize",
+        params,
+        models=tmp / "models",
+        out=work / "optimize",
+        metrics=work / "optimize.json",
+        convergence=work / "convergence.csv",
+        star=work / "star.png",
+        pcp=work / "pcp.png",
+    )
+    result = runner.invoke(app, args, env={"MLFLOW_TRACKING_URI": uri})
+    assert result.exit_code == 0, result.output
+    return tmp, work, uri, data
+
+
+def _refine(optimized, name: str, **refine):
+    tmp, work, uri, data = optimized
+    data = copy.deepcopy(data)
+    data["refine"] = {**data["refine"], **refine}
+    params = write_params(work / f"{name}.yaml", data)
+    args = cli_args(
+        "refine",
+        params,
+        dataset=tmp / "ds",
+        models=tmp / "models",
+        optimize=work / "optimize",
+        out=work / name,
+        report=work / f"{name}.json",
+        figure=work / f"{name}.png",
+    )
+    return runner.invoke(app, args, env={"MLFLOW_TRACKING_URI": uri}), work / name
+
+
+@pytest.fixture(scope="module")
+def refined(optimized):
+    result, out = _refine(optimized, "two_rounds")
+    assert result.exit_code == 0, result.output
+    return out
+
+
+def _files(directory):
+    return {
+        p.relative_to(directory).as_posix(): p.read_bytes()
+        for p in sorted(directory.rglob("*"))
+        if p.is_file()
+    }
+
+
+def test_two_rounds_append_rows_with_their_source_and_keep_validation(optimized, refined):
+    tmp, work, _, _ = optimized
+    report = json.loads((work / "two_rounds.json").read_text())
+    assert [r["round"] for r in report["rounds"]] == [1, 2]
+    for r in report["rounds"]:
+        assert set(r) == {"round", "added", "fidelity", "optimum", "seconds"}
+        optimum = r["optimum"]
+        assert set(r["fidelity"]) == set(optimum["predicted"]) == set(optimum["simulated"])
+        for values in r["fidelity"].values():
+            assert set(values) == {"mae", "median_relative_error", "spearman"}
+    original = pq.read_table(tmp / "ds" / "samples.parquet")
+    grown = pq.read_table(refined / "dataset" / "samples.parquet")
+    before = grown.slice(0, original.num_rows).to_pandas()
+    pd.testing.assert_frame_equal(before, original.to_pandas())  # nothing before is touched
+    assert grown.schema.metadata == original.schema.metadata  # the same normalisation
+    added = grown.slice(original.num_rows).to_pandas()
+    for r in report["rounds"]:
+        rows = added[added.source == f"refine:{r['round']}"]
+        sims = pq.read_table(refined / f"round-{r['round']}" / "simulations" / "samples.parquet")
+        ok = sims.column("status").to_pylist().count("ok")
+        assert len(rows) == r["added"] == ok >= 2  # the optimum and at least one front member
+        assert set(rows.split) == {"train"}
+        assert all(k.startswith(f"refine:{r['round']}:") for k in rows.key)
+    assert len(added) == sum(r["added"] for r in report["rounds"])
+    split = grown.column("split").to_pylist()
+    assert split.count("validation") == original.column("split").to_pylist().count("validation")
+
+
+def test_final_models_and_optimum_are_the_last_rounds(optimized, refined):
+    tmp, *_ = optimized
+    assert _files(refined / "models") == _files(refined / "round-2" / "models")
+    assert _files(refined / "optimize") == _files(refined / "round-2" / "optimize")
+    optimum = json.loads((refined / "optimize" / "optimum.json").read_text())
+    assert optimum["models_digest"] == models_digest(refined / "models")
+    assert models_digest(refined / "models") != models_digest(tmp / "models")  # fine-tuned
+    # round 2 re-simulated round 1's optimum
+    first = json.loads((refined / "round-1" / "optimize" / "optimum.json").read_text())
+    sims = pq.read_table(refined / "round-2" / "simulations" / "samples.parquet").to_pandas()
+    assert sims[sims.source == "optimum"].sample_id.tolist() == [first["front_row"]]
+
+
+def test_mlflow_parent_run_with_a_linked_child_per_round(optimized, refined):
+    _, _, uri, _ = optimized
+    client = mlflow.MlflowClient(tracking_uri=uri)
+    experiment = client.get_experiment_by_name("ftfof-mst_m3f").experiment_id
+    parent = client.search_runs([experiment], "attributes.run_name = 'refine'")[0]
+    children = client.search_runs(
+        [experiment], f"tags.`mlflow.parentRunId` = '{parent.info.run_id}'"
+    )
+    by_name = {c.info.run_name: c for c in children}
+    assert set(by_name) == {"refine-1", "refine-2"}
+    first, second = by_name["refine-1"], by_name["refine-2"]
+    assert client.get_run(first.data.tags["ftfof.surrogate_run"]).info.run_name == "train"
+    assert client.get_run(first.data.tags["ftfof.optimize_run"]).info.run_name == "optimize"
+    assert second.data.tags["ftfof.surrogate_run"] == first.info.run_id
+    assert second.data.tags["ftfof.optimize_run"] == first.info.run_id
+    assert "fidelity.fs1.mae" in second.data.metrics and "added" in second.data.metrics
+    assert client.list_artifacts(second.info.run_id, "models")
+
+
+class KilledError(Exception):
+    """The process dying right after a part reached the disk."""
+
+
+def test_a_killed_round_resumes_without_losing_or_resimulating(optimized, refined, monkeypatch):
+    written = []
+    original = Acquisition._write_part
+
+    def killed_after_first_part(self, results):
+        original(self, results)
+        written.append(len(results))
+        raise KilledError
+
+    monkeypatch.setattr(Acquisition, "_write_part", killed_after_first_part)
+    result, out = _refine(optimized, "resumed")
+    assert isinstance(result.exception, KilledError) and written == [1]
+    assert len(list((out / "round-1" / "simulations" / "pending").glob("part-*"))) == 1
+    assert not (out / "round-1" / "round.json").exists()
+
+    def counted(self, results):
+        original(self, results)
+        written.append(len(results))
+
+    monkeypatch.setattr(Acquisition, "_write_part", counted)
+    result, out = _refine(optimized, "resumed")
+    assert result.exit_code == 0, result.output
+    per_round = [
+        pq.read_table(refined / f"round-{k}" / "simulations" / "samples.parquet").num_rows
+        for k in (1, 2)
+    ]
+    assert sum(written[1:]) == sum(per_round) - 1  # the killed part was not simulated again
+    assert _files(out) == _files(refined)  # every sample, model and front as uninterrupted
+
+
+def test_a_met_target_stops_before_training(optimized):
+    tmp, work, _, _ = optimized
+    result, out = _refine(optimized, "met", target={"spearman": -1.0, "relative_error": 1e9})
+    assert result.exit_code == 0, result.output
+    (only,) = json.loads((work / "met.json").read_text())["rounds"]
+    assert only["added"] == 0 and not (out / "round-1" / "models").exists()
+    assert _files(out / "optimize") == _files(work / "optimize")
+    assert _files(out / "models") == _files(tmp / "models")
+
+
+def test_zero_rounds_pass_the_optimize_outputs_on(optimized):
+    tmp, work, _, _ = optimized
+    result, out = _refine(optimized, "none", rounds=0)
+    assert result.exit_code == 0, result.output
+    assert json.loads((work / "none.json").read_text()) == {"rounds": []}
+    assert _files(out / "optimize") == _files(work / "optimize")
+    assert _files(out / "models") == _files(tmp / "models")
+    assert _files(out / "dataset") == _files(tmp / "ds")

@@ -496,6 +496,17 @@ class Params(Strict):
         return self
 
     @model_validator(mode="after")
+    def _the_dataset_sees_the_whole_landing_hold(self) -> Params:
+        # fs3 is the landing pre-pressure: a base that ends inside the hold would miss its peak
+        hold = self.platform.protocol.landing_hold
+        if self.dataset.hold < hold:
+            raise ValueError(
+                f"dataset.hold: {self.dataset.hold:g} s ends inside the landing hold "
+                f"(platform.protocol.landing_hold {hold:g} s); fs3 needs all of it"
+            )
+        return self
+
+    @model_validator(mode="after")
     def _pad_holds_the_robot_in_shear(self) -> Params:
         k_min = min_shear_capacity_ratio(self.selected_robot, self.selected_surface)
         k = self.selected_surface.shear_capacity_ratio

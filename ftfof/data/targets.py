@@ -81,7 +81,8 @@ def bin_sum(t: Array, values: Array, T3: float, hold: float, seq_len: int) -> Ar
 
 
 def pull_force(fx: Array, fz: Array) -> Array:
-    """|(Fx, max(Fz, 0))|; a missing tangential channel (NaN) leaves the tension alone."""
+    """|(Fx, max(Fz, 0))|; a missing tangential channel (NaN) leaves the tension alone (for the
+    detachment rule only: the ``pull`` and ``jitter`` targets are then masked, not faked)."""
     tension = np.maximum(fz, 0.0)
     return tension if not np.isfinite(fx).all() else np.hypot(fx, tension)
 
@@ -123,7 +124,8 @@ def full_rate(channels: Mapping[str, Array], T3: float) -> dict[str, Array]:
     jitter_window = (t >= 0) & (t <= detached + JITTER_TAIL)
     jitter = np.zeros_like(t)
     step = float(np.median(np.diff(t))) if t.size > 1 else np.inf
-    if step <= JITTER_MAX_STEP and jitter_window.sum() >= 3:
+    shear_seen = np.isfinite(fx).all()  # a single-axis log cannot give the resultant
+    if shear_seen and step <= JITTER_MAX_STEP and jitter_window.sum() >= 3:
         jitter[jitter_window] = jitter_exceedance(pull_all[jitter_window], step)
     else:
         jitter = nan
@@ -133,7 +135,7 @@ def full_rate(channels: Mapping[str, Array], T3: float) -> dict[str, Array]:
     if curvature.size != t.size:  # an acquisition without the film channel
         curvature = nan
     return {
-        "pull": np.where(holding, pull_all, 0.0),
+        "pull": np.where(holding, pull_all, 0.0) if shear_seen else nan,
         "Fd": np.where(holding, np.maximum(fz, 0.0), 0.0),
         "Fp": np.where(t >= detached, np.maximum(-fz, 0.0), 0.0),
         "jitter": jitter,

@@ -75,7 +75,7 @@ def test_a_force_log_supplies_the_forces_only():
     nan = np.full_like(ch["t"], np.nan)
     ch.update(Fx_pad=nan, body_acc=nan, bonds=nan, switch=nan, film_curvature=nan)
     s = targets.binned(ch, T3, HOLD, N)
-    assert s["pull"].max() == pytest.approx(4.0, rel=1e-6)  # tension only
+    assert s["Fd"].max() == pytest.approx(4.0, rel=1e-6)  # the tension it measured
+    assert np.isnan(s["pull"]).all() and np.isnan(s["jitter"]).all()  # no resultant: masked
     assert np.isnan(s["body_acc"]).all() and np.isnan(s["curvature"]).all()
     assert s["Fp"].max() == pytest.approx(5.0, rel=1e-3)  # detachment by eq. 11's 5 % rule
-    assert np.isfinite(s["jitter"]).all()

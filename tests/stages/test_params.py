@@ -74,6 +74,12 @@ def test_a_shear_ratio_without_its_source_is_named(tmp_path, params_dict):
     assert "surfaces.acrylic.shear_source: Field required" in _error(tmp_path, params_dict)
 
 
+def test_a_dataset_base_that_ends_inside_the_landing_hold_is_named(tmp_path, params_dict):
+    params_dict["dataset"]["hold"] = 0.1
+    msg = _error(tmp_path, params_dict)
+    assert "dataset.hold: 0.1 s ends inside the landing hold" in msg and "fs3" in msg
+
+
 def test_unordered_timing_is_named(tmp_path, params_dict):
     params_dict["robots"]["mst_q"]["timing"] = {"T1": 0.5, "T2": 0.4, "T3": 1.0}
     assert "robots.mst_q.timing: must satisfy T1 < T2 < T3" in _error(tmp_path, params_dict)

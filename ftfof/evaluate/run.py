@@ -24,6 +24,7 @@ from ftfof.kinematics.legs import build_leg
 from ftfof.robot import RobotContext
 from ftfof.sim.film import FilmLimit, film_limit
 from ftfof.surrogate.predict import Surrogate
+from ftfof.trajectory.baselines import BASELINE_NAMES
 from ftfof.trajectory.bezier import DECISION_NAMES
 
 OPTIMUM = "optimum"
@@ -82,7 +83,8 @@ def ok_rows(df: pd.DataFrame, reference: str) -> pd.DataFrame:
 def compared(df: pd.DataFrame, reference: str) -> dict[str, pd.Series]:
     """By display name, the rows of the table and the figures: the reference, the other
     baselines, the paper's published optimum (where the robot has one), then our optimum."""
-    baselines = [s for s in df.source if s.startswith("baseline:") and s != PAPER_OPTIMUM]
+    present = set(df.source)
+    baselines = [f"baseline:{n}" for n in BASELINE_NAMES if f"baseline:{n}" in present]
     first = f"baseline:{reference}"
     sources = [first, *(s for s in baselines if s != first)]
     sources += [s for s in df.source if s == PAPER_OPTIMUM] + [OPTIMUM]

@@ -94,23 +94,31 @@ def test_front_members_show_each_trade_and_the_film_verdict():
 
 def test_the_table_lists_the_reference_then_baselines_then_the_paper_optimum_then_ours():
     figures = {
-        c: [1.0] * 4
+        c: [1.0] * 6
         for c in ("peak_pre_pressure", "peak_body_acc", "peak_normal", "landing_pre_pressure")
     }
+    sources = ["cycloidal", "eps_bezier", "polynomial", "random_bezier"]  # as a table sorts them
     sims = pd.DataFrame(
         {
-            "source": [OPTIMUM, PAPER_OPTIMUM, "baseline:cycloidal", "baseline:polynomial"],
-            "status": ["ok"] * 4,
-            "error": [""] * 4,
-            "peak_detachment": [1.0, 1.5, 2.5, 2.0],
-            "peak_pull": [1.2, 1.6, 2.6, 2.4],
-            "peak_shear": [0.5, 0.5, 0.5, 0.5],
-            "min_bend_radius": [0.006, 0.01, 0.004, 0.003],
+            "source": [OPTIMUM, PAPER_OPTIMUM, *(f"baseline:{s}" for s in sources)],
+            "status": ["ok"] * 6,
+            "error": [""] * 6,
+            "peak_detachment": [1.0, 1.5, 2.5, 2.2, 2.0, 2.1],
+            "peak_pull": [1.2, 1.6, 2.6, 2.3, 2.4, 2.2],
+            "peak_shear": [0.5] * 6,
+            "min_bend_radius": [0.006, 0.01, 0.004, 0.003, 0.003, 0.003],
             **figures,
         }
     )
-    rows = table_rows(ok_rows(_with_channels(sims, [1.0] * 4), "polynomial"), "polynomial", T3)
-    assert [r.trajectory for r in rows] == ["polynomial", "cycloidal", "paper_optimum", OPTIMUM]
+    rows = table_rows(ok_rows(_with_channels(sims, [1.0] * 6), "polynomial"), "polynomial", T3)
+    assert [r.trajectory for r in rows] == [
+        "polynomial",
+        "cycloidal",
+        "random_bezier",
+        "eps_bezier",
+        "paper_optimum",
+        OPTIMUM,
+    ]
     ours = rows[-1]
     assert ours.change["peak_pull"] == pytest.approx(-50.0)
     assert ours.change["min_bend_radius"] == pytest.approx(100.0)  # bent twice as gently

@@ -10,12 +10,14 @@ previous one).
 from __future__ import annotations
 
 import itertools
+import os
 import re
 import subprocess
 import sys
 import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
+from pathlib import Path
 
 from ftfof.errors import FtfofError, ParamsError
 
@@ -109,7 +111,12 @@ def failed(status_text: str, names: Sequence[str]) -> list[str]:
 
 def dvc(*args: str) -> str:
     """Run ``dvc ARGS`` with this interpreter; its last error line becomes an FtfofError."""
-    result = subprocess.run([sys.executable, "-m", "dvc", *args], capture_output=True, text=True)
+    # `dvc queue start` spawns workers as `dvc`: they must find this environment's, not none
+    bin_dir = str(Path(sys.executable).parent)
+    env = {**os.environ, "PATH": os.pathsep.join([bin_dir, os.environ.get("PATH", "")])}
+    result = subprocess.run(
+        [sys.executable, "-m", "dvc", *args], capture_output=True, text=True, env=env
+    )
     if result.returncode != 0:
         message = (result.stderr or result.stdout).strip().splitlines()
         raise FtfofError(f"dvc {' '.join(args[:2])}", message[-1] if message else "failed")

@@ -3,6 +3,8 @@ real foot would not survive it, whatever the surrogates predicted (issue: film s
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ftfof.config import Params
@@ -17,12 +19,14 @@ MEASURED = (
     "peak_shear",
     "landing_pre_pressure",
     "peak_body_acc",
+    "switch_time",
 )
 
 
 def simulator_check(params: Params, ctx: RobotContext) -> SimulatorCheck:
-    """A check that simulates a decision row and passes it when the run succeeds and the film's
-    minimum bend radius stays at or above its safety limit (:class:`ftfof.sim.film.FilmLimit`)."""
+    """A check that simulates a decision row and passes it when the run succeeds, the pad lets go
+    (the detachment switch trips) and the film's minimum bend radius stays at or above its safety
+    limit (:class:`ftfof.sim.film.FilmLimit`)."""
     from ftfof.sim.film import film_limit
     from ftfof.sim.simulate import simulate
 
@@ -34,6 +38,9 @@ def simulator_check(params: Params, ctx: RobotContext) -> SimulatorCheck:
         measured = {k: float(result.scalars[k]) for k in MEASURED if k in result.scalars}
         if not result.ok:
             return Verdict(row, False, f"simulation failed: {result.error}", measured)
+        if not math.isfinite(measured["switch_time"]):
+            pull = measured["peak_pull"]
+            return Verdict(row, False, f"the pad never let go (peak pull {pull:.1f} N)", measured)
         bend = measured["min_bend_radius"]
         if bend < limit:
             return Verdict(

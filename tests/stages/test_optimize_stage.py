@@ -73,6 +73,7 @@ def test_front_and_optimum_are_written(optimized):
     *refused, accepted = optimum["simulator_check"]
     assert accepted["ok"] and accepted["row"] == optimum["front_row"]
     assert accepted["measured"]["min_bend_radius"] >= limit
+    assert accepted["measured"]["switch_time"] > 0  # the pad let go (NaN: it never did)
     assert all(not v["ok"] and v["reason"] for v in refused)
     assert len(optimum["predicted"]["pull"]) == len(optimum["predicted"]["t"])
     summary = json.loads((tmp / f"opt_{robot}_optimize.json").read_text())

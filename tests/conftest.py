@@ -63,6 +63,34 @@ def cli_args(command: str, params: Path | None = None, **options: object) -> lis
     return args
 
 
+def optimize_args(params: Path, models: Path, work: Path, plots: Path) -> list[str]:
+    """`ftfof optimize` into ``work/optimize`` and ``work/optimize.json``; plots in ``plots``."""
+    return cli_args(
+        "optimize",
+        params,
+        models=models,
+        out=work / "optimize",
+        metrics=work / "optimize.json",
+        convergence=plots / "optimize_convergence.csv",
+        star=plots / "optimize_star.png",
+        pcp=plots / "optimize_pcp.png",
+    )
+
+
+def refine_args(params: Path, trained: Path, optimize: Path, out: Path, figure: Path) -> list[str]:
+    """`ftfof refine` on the ``trained`` dataset and models; its report is ``out`` + ``.json``."""
+    return cli_args(
+        "refine",
+        params,
+        dataset=trained / "ds",
+        models=trained / "models",
+        optimize=optimize,
+        out=out,
+        report=out.with_suffix(".json"),
+        figure=figure,
+    )
+
+
 def write_params(path: Path, data: dict) -> Path:
     path.write_text(yaml.safe_dump(data, sort_keys=False))
     return path

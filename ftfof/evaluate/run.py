@@ -129,9 +129,7 @@ def front_members(df: pd.DataFrame, T3: float, pre_pressure: float, film: FilmLi
     return {
         "members": members,
         "film_safe_fraction": round(float(np.mean(safe)), 4) if safe else None,
-        "film_limit": {
-            k: round(v, 6) if isinstance(v, float) else v for k, v in film.as_dict().items()
-        },
+        "film_limit": film.as_dict(),
     }
 
 

@@ -285,9 +285,7 @@ def summarize(table: pa.Table, film: FilmLimit, wall: float, simulated: int) -> 
         # fractions of the sampled set bending the film below fc, and below the safety limit
         "film_below_min_bend_radius": below(film.fc),
         "film_below_limit": below(film.radius),
-        "film_limit": {
-            k: round(v, 6) if isinstance(v, float) else v for k, v in film.as_dict().items()
-        },
+        "film_limit": film.as_dict(),
         "min_bend_radius": stats("min_bend_radius"),
         "baselines": baselines,
     }

@@ -158,11 +158,12 @@ class FilmLimit:
         return self.fc <= self.fraction * self.peel_root
 
     def as_dict(self) -> dict[str, float | bool]:
+        """For reports: lengths in m to the micrometre."""
         return {
-            "limit": self.radius,
-            "fc": self.fc,
-            "peel_root_radius": self.peel_root,
-            "peel_root_fraction": self.fraction,
+            "limit": round(self.radius, 6),
+            "fc": round(self.fc, 6),
+            "peel_root_radius": round(self.peel_root, 6),
+            "peel_root_fraction": round(self.fraction, 6),
             "fc_reachable": self.fc_reachable,
         }
 

@@ -7,7 +7,7 @@ import pytest
 from typer.testing import CliRunner
 
 from stages.cli import app
-from tests.conftest import cli_args, write_params
+from tests.conftest import cli_args, optimize_args, refine_args, write_params
 
 runner = CliRunner()
 TINY_OPTIMIZE = {"population": 12, "generations": 4, "log_every": 2, "recheck_samples": 512}
@@ -27,28 +27,12 @@ def evaluated(trained, tmp_path_factory):
     figures.mkdir()
     for source, target in (("loss", "train_loss"), ("pred", "train_predictions")):
         shutil.copy(tmp / f"models_{source}.png", figures / f"{target}.png")
-    optimize = cli_args(
-        "optimize",
-        params,
-        models=tmp / "models",
-        out=work / "optimize",
-        metrics=work / "optimize.json",
-        convergence=figures / "optimize_convergence.csv",
-        star=figures / "optimize_star.png",
-        pcp=figures / "optimize_pcp.png",
-    )
+    optimize = optimize_args(params, tmp / "models", work, figures)
     env = {"MLFLOW_TRACKING_URI": uri}
     result = runner.invoke(app, optimize, env=env)
     assert result.exit_code == 0, result.output
-    refine = cli_args(
-        "refine",
-        params,
-        dataset=tmp / "ds",
-        models=tmp / "models",
-        optimize=work / "optimize",
-        out=work / "refine",
-        report=work / "refine.json",
-        figure=figures / "refine_fidelity.png",
+    refine = refine_args(
+        params, tmp, work / "optimize", work / "refine", figures / "refine_fidelity.png"
     )
     result = runner.invoke(app, refine, env=env)  # refine.rounds: 0 passes the optimum on
     assert result.exit_code == 0, result.output

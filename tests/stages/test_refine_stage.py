@@ -13,7 +13,7 @@ from typer.testing import CliRunner
 from ftfof.pipeline.digests import models_digest
 from ftfof.pipeline.jobs import Acquisition
 from stages.cli import app
-from tests.conftest import cli_args, write_params
+from tests.conftest import optimize_args, refine_args, write_params
 from tests.stages.conftest import TINY_OPTIMIZE
 
 pytestmark = pytest.mark.integration
@@ -34,16 +34,7 @@ def optimized(trained, tmp_path_factory):
     data["refine"] = {**data["refine"], **REFINE, "target": UNREACHABLE}
     work = tmp_path_factory.mktemp("refine")
     params = write_params(work / "params.yaml", data)
-    args = cli_args(
-        "optimize",
-        params,
-        models=tmp / "models",
-        out=work / "optimize",
-        metrics=work / "optimize.json",
-        convergence=work / "convergence.csv",
-        star=work / "star.png",
-        pcp=work / "pcp.png",
-    )
+    args = optimize_args(params, tmp / "models", work, work)
     result = runner.invoke(app, args, env={"MLFLOW_TRACKING_URI": uri})
     assert result.exit_code == 0, result.output
     return tmp, work, uri, data
@@ -54,16 +45,7 @@ def _refine(optimized, name: str, **refine):
     data = copy.deepcopy(data)
     data["refine"] = {**data["refine"], **refine}
     params = write_params(work / f"{name}.yaml", data)
-    args = cli_args(
-        "refine",
-        params,
-        dataset=tmp / "ds",
-        models=tmp / "models",
-        optimize=work / "optimize",
-        out=work / name,
-        report=work / f"{name}.json",
-        figure=work / f"{name}.png",
-    )
+    args = refine_args(params, tmp, work / "optimize", work / name, work / f"{name}.png")
     return runner.invoke(app, args, env={"MLFLOW_TRACKING_URI": uri}), work / name
 
 

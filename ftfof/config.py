@@ -80,6 +80,9 @@ class Foot(Strict):
     # film safety when fc is below reach: no trajectory may bend the film tighter than this
     # fraction of the radius every steady peel imposes at its root (ftfof.sim.film.FilmLimit)
     peel_root_fraction: Annotated[float, Field(gt=0, le=1)] = 0.75
+    # the whole pad rises at least this far above the wall in the swing (the film's lowest point
+    # on the platform), or it scuffs along the wall and lands while the foot still moves, m
+    swing_clearance: PositiveFloat
 
 
 class MinDetachment(Strict):

@@ -141,6 +141,11 @@ def film_safety(curvature: Array, min_bend_radius: float) -> Array:
     return min_bend_radius * np.max(curvature, axis=-1) - 1.0
 
 
+def pad_clearance(clearance: Array, required: float) -> Array:
+    """1 - max clearance / required: <= 0 when the whole pad rises ``required`` above the wall."""
+    return 1.0 - np.max(clearance, axis=-1) / required
+
+
 @dataclass(frozen=True)
 class Evidence:
     """What the strategy functions read for one population.

@@ -26,6 +26,7 @@ SCALARS = (
     ("initial_pre_pressure", "N", "mean press force just before the trajectory"),
     ("peak_body_acc", "m/s^2", "max IMU acceleration: body jitter"),
     ("min_bend_radius", "m", "1 / max film_curvature from the trajectory start"),
+    ("max_clearance", "m", "highest the whole pad rose above the wall: max film_clearance"),
     ("switch_time", "s", "photoelectric switch: all bonds broken, pad above the switch"),
     ("bonds_at_end", "", "bonds intact at the end of the hold"),
     ("steps", "", "solver steps"),
@@ -47,6 +48,7 @@ UNITS = {
     "bonds": "",
     "switch": "",
     "film_curvature": "1/m",
+    "film_clearance": "m",
 }
 
 ACQUISITION = pa.schema(

@@ -35,9 +35,11 @@ UNITS = {
     "vz": "m/s",
     "t": "s",
     "film_curvature": "1/m",
+    "film_clearance": "m",
     **tg.UNITS,
 }
-# film_curvature is NaN where a record does not see the film (a force log): its target is masked
+# the film channels are NaN where a record does not see the film (a force log): their targets
+# are masked
 CHANNELS = (
     "t",
     "x_cmd",
@@ -48,6 +50,7 @@ CHANNELS = (
     "bonds",
     "switch",
     "film_curvature",
+    "film_clearance",
 )
 METADATA_KEY = b"ftfof"
 

@@ -95,6 +95,7 @@ def parse(
         "bonds": nan,
         "switch": nan,
         "film_curvature": nan,  # a force log does not see the film
+        "film_clearance": nan,
     }
     assert set(channels) == set(CHANNELS)
     scalars = {

@@ -20,9 +20,14 @@ gives on the binned series, so a predicted and a simulated objective measure the
   50 ms, bin maximum -> fsj = max (the IMU jitter of FTFOF Table I, during detachment).
 - ``curvature``: the film's free-span curvature (t >= 0), bin maximum -> film safety
   g = fc * max - 1 <= 0.
+- ``clearance``: the height of the film's lowest point above the wall (t >= 0; 0 while any of it
+  touches), bin maximum -> pad clearance g = 1 - max / required <= 0: the whole pad must rise
+  clear of the wall in the swing, or it scuffs along it and lands while still moving.
 
-Complete detachment is the photoelectric switch; a record without one (an imported log) takes
-eq. 11's rule on the pull: the first sample after its peak below 5 % of the peak. A target the
+Complete detachment is the photoelectric switch. A simulated record whose switch never trips
+never let go: its pull window runs to the end and it has no landing (its pre-pressure is 0, as
+the acquisition's ``landing_pre_pressure``). A record without a switch channel (an imported log)
+takes eq. 11's rule on the pull: the first sample after its peak below 5 % of the peak. A target the
 record cannot supply (no IMU, no film channel, a force log coarser than 2 ms for the jitter)
 is all NaN: the training loss masks it out, nothing is invented.
 """
@@ -38,8 +43,16 @@ from ftfof.objectives import DETACHED_FRACTION, jitter_exceedance
 
 Array = NDArray[np.float64]
 
-TARGETS = ("pull", "Fd", "Fp", "jitter", "body_acc", "curvature")
-UNITS = {"pull": "N", "Fd": "N", "Fp": "N", "jitter": "", "body_acc": "m/s^2", "curvature": "1/m"}
+TARGETS = ("pull", "Fd", "Fp", "jitter", "body_acc", "curvature", "clearance")
+UNITS = {
+    "pull": "N",
+    "Fd": "N",
+    "Fp": "N",
+    "jitter": "",
+    "body_acc": "m/s^2",
+    "curvature": "1/m",
+    "clearance": "m",
+}
 SUMMED = ("jitter",)  # binned by sum (a density); every other target by maximum
 JITTER_TAIL = 0.020  # s of fs7's window after complete detachment
 BODY_TAIL = 0.050  # s of fsj's window after complete detachment
@@ -88,11 +101,11 @@ def pull_force(fx: Array, fz: Array) -> Array:
 
 
 def detachment_time(t: Array, switch: Array, pull: Array, T3: float) -> float:
-    """Complete detachment: the switch, else the first sample after the pull's peak (within the
-    trajectory) below 5 % of the peak, else T3."""
-    on = np.flatnonzero(np.nan_to_num(switch, nan=0.0) > 0)
-    if on.size:
-        return float(t[on[0]])
+    """Complete detachment: the switch (inf when a recorded switch never trips), else the first
+    sample after the pull's peak (within the trajectory) below 5 % of the peak, else T3."""
+    if np.isfinite(switch).all() and switch.size == t.size:
+        on = np.flatnonzero(switch > 0)
+        return float(t[on[0]]) if on.size else np.inf
     during = np.flatnonzero((t >= 0) & (t <= T3))
     if during.size == 0:
         return T3
@@ -131,9 +144,7 @@ def full_rate(channels: Mapping[str, Array], T3: float) -> dict[str, Array]:
         jitter = nan
     body = np.asarray(channels.get("body_acc", nan), dtype=float)
     body_window = (t >= lift_off_time(t, bonds)) & (t <= detached + BODY_TAIL)
-    curvature = np.asarray(channels.get("film_curvature", nan), dtype=float)
-    if curvature.size != t.size:  # an acquisition without the film channel
-        curvature = nan
+    curvature, clearance = (_film_channel(channels, k, nan) for k in ("curvature", "clearance"))
     return {
         "pull": np.where(holding, pull_all, 0.0) if shear_seen else nan,
         "Fd": np.where(holding, np.maximum(fz, 0.0), 0.0),
@@ -141,7 +152,15 @@ def full_rate(channels: Mapping[str, Array], T3: float) -> dict[str, Array]:
         "jitter": jitter,
         "body_acc": np.where(body_window, body, 0.0) if np.isfinite(body).all() else nan,
         "curvature": np.where(t >= 0, curvature, 0.0) if np.isfinite(curvature).all() else nan,
+        "clearance": np.where(t >= 0, clearance, 0.0) if np.isfinite(clearance).all() else nan,
     }
+
+
+def _film_channel(channels: Mapping[str, Array], name: str, nan: Array) -> Array:
+    """``film_<name>``, all NaN when the record does not have it (a force log, an acquisition
+    from before the channel)."""
+    values = np.asarray(channels.get(f"film_{name}", nan), dtype=float)
+    return values if values.size == nan.size else nan
 
 
 def binned(channels: Mapping[str, Array], T3: float, hold: float, seq_len: int) -> dict[str, Array]:

@@ -104,9 +104,12 @@ def table_rows(df: pd.DataFrame, reference: str, T3: float) -> list[TableRow]:
     return table_one(peaks, reference, COLUMNS)
 
 
-def front_members(df: pd.DataFrame, T3: float, pre_pressure: float, film: FilmLimit) -> dict:
+def front_members(
+    df: pd.DataFrame, T3: float, pre_pressure: float, film: FilmLimit, clearance: float
+) -> dict:
     """The re-simulated optimum and front members side by side: what each trades (pull, jitter,
-    landing press) and whether its film survives, so the choice can be judged in simulation."""
+    landing press), whether its film survives and its pad lets go and clears the wall, so the
+    choice can be judged in simulation."""
     sims = df[df.source.isin([OPTIMUM, "front"])]
     sims = sims.assign(first=sims.source != OPTIMUM).sort_values(["first", "sample_id"])
     members = []
@@ -123,13 +126,20 @@ def front_members(df: pd.DataFrame, T3: float, pre_pressure: float, film: FilmLi
                 ),
                 "min_bend_radius": round(f["min_bend_radius"], 6),
                 "film_safe": bool(f["min_bend_radius"] >= film.radius),
+                "max_clearance": round(float(row.max_clearance), 6),
+                "lets_go": bool(np.isfinite(row.switch_time) and row.max_clearance >= clearance),
             }
         )
-    safe = [m["film_safe"] for m in members]
+
+    def fraction(key: str) -> float | None:
+        return round(float(np.mean([m[key] for m in members])), 4) if members else None
+
     return {
         "members": members,
-        "film_safe_fraction": round(float(np.mean(safe)), 4) if safe else None,
+        "film_safe_fraction": fraction("film_safe"),
+        "lets_go_fraction": fraction("lets_go"),
         "film_limit": film.as_dict(),
+        "swing_clearance": clearance,
     }
 
 
@@ -307,7 +317,7 @@ def evaluate(
     T3 = ctx.policy.timing.T3
     rows = table_rows(table, cfg.reference, T3)
     film = film_limit(ctx.robot, params.selected_surface)
-    front = front_members(table, T3, ctx.robot.pre_pressure, film)
+    front = front_members(table, T3, ctx.robot.pre_pressure, film, ctx.robot.foot.swing_clearance)
     fid, predicted, simulated = fidelity_of(inputs, table, ctx, surrogate)
     controller = export(ctx, inputs, cfg.export_rate_hz)
     summary = metrics(params, inputs, rows, fid, controller, len(predicted), front)

@@ -9,27 +9,51 @@ Decision variables are the policy's free variables (ties reparameterised away) w
 objectives are the robot's priority list; the inequality constraints are the policy's rules that
 the box does not already enforce (relational, shape, sampled position/velocity limits, fs6,
 md_path, the minimum path radius and the no-cusp rule), divided by a unit scale per kind so that
-pymoo's summed violation compares like with like, and film safety on the predicted curvature
-(limit * max curvature - 1, dimensionless; the limit is ``ftfof.sim.film.FilmLimit.radius``)
-when the surrogate was trained on the film channel.
+pymoo's summed violation compares like with like, and the foot's physical limits on what the
+surrogate predicts (:class:`PhysicalLimits`, dimensionless), each where the surrogate was
+trained on its channel.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from functools import cache
+from typing import ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
 from pymoo.core.problem import Problem
 from threadpoolctl import ThreadpoolController
 
-from ftfof.objectives import Evidence, film_safety, strategy_values
+from ftfof.objectives import Evidence, film_safety, pad_clearance, strategy_values
 from ftfof.surrogate.predict import Surrogate
 from ftfof.trajectory.policy import Constraint, ConstraintPolicy, FeasibilityReport
 
 Array = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class PhysicalLimits:
+    """What a real foot must survive, measured in the simulator and predicted by the surrogate:
+    g <= 0 where it holds (``film_safety``: limit * max film curvature - 1; ``pad_clearance``:
+    1 - max pad clearance / required)."""
+
+    film_radius: float  # m, ftfof.sim.film.FilmLimit.radius
+    swing_clearance: float  # m, robot.foot.swing_clearance
+
+    TARGETS: ClassVar[dict[str, str]] = {"film_safety": "curvature", "pad_clearance": "clearance"}
+
+    def constrained(self, trained: Sequence[str]) -> tuple[str, ...]:
+        """The limits whose channel the surrogate was trained on."""
+        return tuple(name for name, target in self.TARGETS.items() if target in trained)
+
+    def violations(self, series: Mapping[str, Array], names: Sequence[str]) -> dict[str, Array]:
+        rules = {
+            "film_safety": lambda: film_safety(series["curvature"], self.film_radius),
+            "pad_clearance": lambda: pad_clearance(series["clearance"], self.swing_clearance),
+        }
+        return {name: rules[name]() for name in names}
 
 
 @dataclass(frozen=True)
@@ -40,7 +64,7 @@ class PopulationEvaluation:
     F: Array  # (pop, n_obj) in priority order
     violations: FeasibilityReport  # the non-box rules, in their units (> 0 violated)
     series: dict[str, Array]  # target -> (pop, seq_len) predicted series, in its unit
-    film: Array | None  # (pop,) predicted film safety limit * max curvature - 1 (> 0 violated)
+    physical: dict[str, Array]  # PhysicalLimits name -> (pop,) predicted g (> 0 violated)
     t: Array  # the surrogate's time base
 
 
@@ -53,21 +77,21 @@ class TrajectoryProblem(Problem):
         surrogate: Surrogate,
         objectives: Sequence[str],
         pre_pressure: float,
-        film_limit: float,  # m, the film safety limit (ftfof.sim.film.FilmLimit.radius)
+        limits: PhysicalLimits,
     ):
         self.policy = policy
         self.surrogate = surrogate
         self.objectives = tuple(objectives)
         self.pre_pressure = pre_pressure
-        self.film_limit = film_limit
-        self.film_constrained = "curvature" in surrogate.trained
+        self.limits = limits
+        self.physical = limits.constrained(surrogate.trained)
         self.rules: tuple[Constraint, ...] = tuple(c for c in policy.constraints if not c.box)
         self.scales = np.array([_unit_scale(c.kind, policy) for c in self.rules])
         self.force_t = surrogate.time_base(policy.timing.T3)
         super().__init__(
             n_var=policy.n_free,
             n_obj=len(self.objectives),
-            n_ieq_constr=len(self.rules) + int(self.film_constrained),
+            n_ieq_constr=len(self.rules) + len(self.physical),
             xl=policy.lower,
             xu=policy.upper,
         )
@@ -97,14 +121,14 @@ class TrajectoryProblem(Problem):
         )
         F = strategy_values(self.objectives, evidence)
         report = self.policy.check(X, samples=path, constraints=self.rules)
-        film = film_safety(series["curvature"], self.film_limit) if self.film_constrained else None
-        return PopulationEvaluation(X, F, report, series, film, self.force_t)
+        physical = self.limits.violations(series, self.physical)
+        return PopulationEvaluation(X, F, report, series, physical, self.force_t)
 
     def _evaluate(self, x: Array, out: dict, *args, **kwargs) -> None:
         result = self.evaluate_population(x)
         out["F"] = result.F
         G = result.violations.violations / self.scales
-        out["G"] = G if result.film is None else np.column_stack([G, result.film])
+        out["G"] = np.column_stack([G, *result.physical.values()])
 
 
 @cache

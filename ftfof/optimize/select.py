@@ -111,7 +111,7 @@ def choose(
         "ms_per_generation": round(1e3 * result.seconds / result.generations, 2),
         "hypervolume": final.hypervolume,
         "feasible_in_final_population": final.feasible,
-        "film_constrained": problem.film_constrained,
+        "physical_limits": list(problem.physical),
         "front": {
             "size": len(free),
             "passing_recheck": int(passing.size),
@@ -180,7 +180,7 @@ def front_table(outcome: Outcome, ctx: RobotContext, models_digest: str) -> pa.T
         **{n: ev.X[:, j] for j, n in enumerate(DECISION_NAMES)},
         **{n: ev.F[:, j] for j, n in enumerate(names)},
         **{f"g:{rule}": ev.violations.violations[:, j] for j, rule in enumerate(rules)},
-        **({"g:film_safety": ev.film} if ev.film is not None else {}),
+        **{f"g:{name}": g for name, g in ev.physical.items()},
         "recheck_feasible": passing,
         "chosen": chosen,
     }
@@ -190,7 +190,8 @@ def front_table(outcome: Outcome, ctx: RobotContext, models_digest: str) -> pa.T
         "free_variables": list(ctx.policy.free_names),
         "units": "decision variables in m; objectives in N (fs1-fs3), m (fs4, fs5), "
         "dimensionless (fs7), m/s^2 (fsj); g: columns are violations in the rule's units "
-        "(film_safety: fc * max curvature - 1, predicted), > 0 violated",
+        "(film_safety: limit * max curvature - 1; pad_clearance: 1 - max clearance / required; "
+        "both predicted), > 0 violated",
         "models_digest": models_digest,
     }
     table = pa.table(columns)

@@ -202,7 +202,8 @@ class Acquisition:
         failed = int(np.sum(status != "ok"))
         rate = failed / max(len(keys), 1)
         limit = film_limit(self.ctx.robot, self.params.selected_surface)
-        summary = summarize(table, limit, wall, simulated)
+        clearance = self.ctx.robot.foot.swing_clearance
+        summary = summarize(table, limit, clearance, wall, simulated)
         if rate > self.params.acquire.max_failure_rate:
             errors = [e for e in table.column("error").to_pylist() if e][:3]
             raise SimulationError(
@@ -234,7 +235,9 @@ def job_key(params: Params, ctx: RobotContext, inputs: dict[str, object]) -> str
     )
 
 
-def summarize(table: pa.Table, film: FilmLimit, wall: float, simulated: int) -> dict[str, object]:
+def summarize(
+    table: pa.Table, film: FilmLimit, clearance: float, wall: float, simulated: int
+) -> dict[str, object]:
     df = table.select(
         [
             "source",
@@ -245,6 +248,7 @@ def summarize(table: pa.Table, film: FilmLimit, wall: float, simulated: int) -> 
             "landing_pre_pressure",
             "peak_body_acc",
             "min_bend_radius",
+            "max_clearance",
         ]
     ).to_pandas()
     ok = df[df.status == "ok"]
@@ -268,6 +272,7 @@ def summarize(table: pa.Table, film: FilmLimit, wall: float, simulated: int) -> 
             "peak_pre_pressure": round(float(row.peak_pre_pressure), 4),
             "peak_body_acc": round(float(row.peak_body_acc), 4),
             "min_bend_radius": round(float(row.min_bend_radius), 6),
+            "max_clearance": round(float(row.max_clearance), 6),
         }
         for row in ok[ok.source.str.startswith("baseline:")].itertuples()
     }
@@ -287,6 +292,11 @@ def summarize(table: pa.Table, film: FilmLimit, wall: float, simulated: int) -> 
         "film_below_limit": below(film.radius),
         "film_limit": film.as_dict(),
         "min_bend_radius": stats("min_bend_radius"),
+        # fraction of the sampled set whose pad never rose foot.swing_clearance above the wall
+        "pad_below_swing_clearance": (
+            round(float(np.mean(sampled.max_clearance < clearance)), 4) if len(sampled) else None
+        ),
+        "max_clearance": stats("max_clearance"),
         "baselines": baselines,
     }
 

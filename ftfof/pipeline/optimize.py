@@ -14,7 +14,7 @@ import numpy as np
 import pyarrow.parquet as pq
 
 from ftfof.config import Params
-from ftfof.optimize.problem import TrajectoryProblem
+from ftfof.optimize.problem import PhysicalLimits, TrajectoryProblem
 from ftfof.optimize.search import (
     ConvergenceRecord,
     SearchResult,
@@ -98,12 +98,15 @@ def build_setup(
         surrogate,
         robot.objectives,
         robot.pre_pressure,
-        film_limit(robot, params.selected_surface).radius,
+        PhysicalLimits(
+            film_limit(robot, params.selected_surface).radius, robot.foot.swing_clearance
+        ),
     )
-    if not problem.film_constrained:
+    unseen = set(PhysicalLimits.TARGETS) - set(problem.physical)
+    if unseen:
         console.print(
-            "[yellow]the surrogate has no film-curvature target (acquisition without the "
-            "film_curvature channel): film safety is not constrained in the search"
+            f"[yellow]the surrogate was not trained on the channels of {sorted(unseen)} (an "
+            "acquisition without them): they are not constrained in the search"
         )
     seed = seed_for(params.search_seed, "optimize")
     settings = SearchSettings(

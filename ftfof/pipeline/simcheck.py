@@ -19,19 +19,22 @@ MEASURED = (
     "peak_shear",
     "landing_pre_pressure",
     "peak_body_acc",
+    "max_clearance",
     "switch_time",
 )
 
 
 def simulator_check(params: Params, ctx: RobotContext) -> SimulatorCheck:
     """A check that simulates a decision row and passes it when the run succeeds, the pad lets go
-    (the detachment switch trips) and the film's minimum bend radius stays at or above its safety
-    limit (:class:`ftfof.sim.film.FilmLimit`)."""
+    (the detachment switch trips), the whole pad rises ``foot.swing_clearance`` above the wall,
+    and the film's minimum bend radius stays at or above its safety limit
+    (:class:`ftfof.sim.film.FilmLimit`)."""
     from ftfof.sim.film import film_limit
     from ftfof.sim.simulate import simulate
 
     on = bench(params, ctx)
     limit = film_limit(ctx.robot, params.selected_surface).radius
+    clearance = ctx.robot.foot.swing_clearance
 
     def check(row: int, X: np.ndarray) -> Verdict:
         result = simulate(on.bezier("verify", row, X))
@@ -41,6 +44,15 @@ def simulator_check(params: Params, ctx: RobotContext) -> SimulatorCheck:
         if not math.isfinite(measured["switch_time"]):
             pull = measured["peak_pull"]
             return Verdict(row, False, f"the pad never let go (peak pull {pull:.1f} N)", measured)
+        rose = measured["max_clearance"]
+        if rose < clearance:
+            return Verdict(
+                row,
+                False,
+                f"the pad rose only {1e3 * rose:.1f} mm above the wall (needs "
+                f"{1e3 * clearance:.1f} mm)",
+                measured,
+            )
         bend = measured["min_bend_radius"]
         if bend < limit:
             return Verdict(

@@ -238,6 +238,11 @@ def build(spec: SampleSpec, law: BondLaw) -> Platform:
                 nodeNumber=plate, outputVariableType=exu.OutputVariableType.Acceleration, **store
             )
         ),
+        "plate": mbs.AddSensor(
+            SensorNode(
+                nodeNumber=plate, outputVariableType=exu.OutputVariableType.Displacement, **store
+            )
+        ),
         "foot": mbs.AddSensor(
             SensorNode(
                 nodeNumber=foot_node, outputVariableType=exu.OutputVariableType.Position, **store

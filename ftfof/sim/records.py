@@ -30,6 +30,7 @@ CHANNELS = (
     "bonds",  # intact bonds
     "switch",  # photoelectric switch state (1 = foot detached)
     "film_curvature",  # max curvature of the film's free span (clamp to peel front), 1/m
+    "film_clearance",  # height of the film's lowest point above the plate (0 while touching), m
 )
 
 

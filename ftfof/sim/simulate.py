@@ -307,21 +307,28 @@ def _channels(p: Platform, run: _Run) -> dict[str, Array]:
         "body_acc": acc,
         "bonds": n_bonds.astype(float),
         "switch": switch.astype(float),
-        "film_curvature": _film_curvature(p, t, tt, np.array(run.bonded_log)[event]),
+        **_film_channels(p, t, tt, np.array(run.bonded_log)[event]),
     }
 
 
-def _film_curvature(p: Platform, t: Array, tt: Array, bonded: Array) -> Array:
-    """Max curvature of the film's free span at each time (:mod:`ftfof.sim.film`), 0 after
-    the pad's first full release."""
+def _film_channels(p: Platform, t: Array, tt: Array, bonded: Array) -> dict[str, Array]:
+    """From the film's node coordinates: the max curvature of its free span
+    (:mod:`ftfof.sim.film`; 0 after the pad's first full release) and its clearance, the height
+    of its lowest point above the plate (0 while any part of it touches or is bonded)."""
     stored = [np.asarray(p.mbs.GetSensorStoredData(s)) for s in p.film_sensors]
     if len(stored[0]) == 0:
-        return np.zeros_like(t)
+        return {"film_curvature": np.zeros_like(t), "film_clearance": np.zeros_like(t)}
     coords = np.stack([d[:, 1:] for d in stored], axis=1)  # (times, nodes, 4)
     on_grid = _resample(stored[0][:, 0], coords, t)
     kappa = film.free_span_curvature(on_grid, p.x_ref, p.clamp_edge, bonded)
     released = np.cumsum((tt >= 0) & ~bonded.any(axis=1)) > 0
-    return np.where(released, 0.0, kappa)
+    plate = np.asarray(p.mbs.GetSensorStoredData(p.sensors["plate"]))
+    plate_z = np.interp(t, plate[:, 0], plate[:, 2]) if len(plate) else np.zeros_like(t)
+    lowest = on_grid[:, :, 1].min(axis=1) - plate_z
+    return {
+        "film_curvature": np.where(released, 0.0, kappa),
+        "film_clearance": np.where(bonded.any(axis=1), 0.0, np.maximum(lowest, 0.0)),
+    }
 
 
 def _resample(times: Array, values: Array, t: Array) -> Array:
@@ -353,6 +360,7 @@ def summarize(result: SampleResult, run: _Run, spec: SampleSpec) -> dict[str, fl
         "initial_pre_pressure": float(np.mean(-c["Fz"][before])) if before.any() else math.nan,
         "peak_body_acc": float(np.max(c["body_acc"][during], initial=0.0)),
         "min_bend_radius": 1.0 / bend if bend > 0 else math.inf,
+        "max_clearance": float(np.max(c["film_clearance"][during], initial=0.0)),
         "switch_time": float(run.switched_at - run.t0)
         if not math.isnan(run.switched_at)
         else math.nan,

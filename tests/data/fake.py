@@ -2,7 +2,8 @@
 
 A fake sample presses with 5 N, peels with a Gaussian pull of ``peak`` (normal) and 0.4 of it in
 shear, loses its bonds over the pull, trips the switch at 0.2 s, rings the body on release and
-lands at 1.05 s; its film bends with the pull (NaN ``with_film=False``: a force log).
+lands at 1.05 s; its film bends with the pull and its pad rises to 20 mm in the swing (NaN
+``with_film=False``: a force log).
 """
 
 from __future__ import annotations
@@ -19,6 +20,11 @@ SWITCH = 0.2  # s
 def film_curvature(t: np.ndarray, peak: float) -> np.ndarray:
     """1/m: a bend that tightens with the pull (peak 3 N -> radius 10 mm)."""
     return (peak / 3.0) * 100.0 * np.exp(-((t - 0.12) ** 2) / 1e-3)
+
+
+def film_clearance(t: np.ndarray) -> np.ndarray:
+    """m: the pad clear of the wall from its release (0.15 s) to its landing, 20 mm at most."""
+    return np.where((t > 0.15) & (t < 1.0), 0.02 * np.sin(np.pi * (t - 0.15) / 0.85), 0.0)
 
 
 def fake_channels(peak: float, with_film: bool = True) -> dict[str, np.ndarray]:
@@ -48,6 +54,7 @@ def fake_channels(peak: float, with_film: bool = True) -> dict[str, np.ndarray]:
         bonds=bonds,
         switch=(t >= SWITCH).astype(float),
         film_curvature=film_curvature(t, peak) if with_film else np.full_like(t, np.nan),
+        film_clearance=film_clearance(t) if with_film else np.full_like(t, np.nan),
     )
     return ch
 

@@ -70,9 +70,9 @@ def test_targets_keep_the_peaks(built):
     )
 
 
-def test_an_acquisition_without_the_film_channel_masks_its_target():
+def test_an_acquisition_without_the_film_channels_masks_their_targets():
     table, norm = dataset.build(fake_acquisition(with_film=False), config.Dataset(seq_len=64), 3)
     _, y = dataset.arrays(table, "train")
-    k = dataset.TARGETS.index("curvature")
-    assert np.isnan(y[..., k]).all() and np.isfinite(np.delete(y, k, axis=-1)).all()
-    assert norm.target_scale[k] == 1.0
+    film = [dataset.TARGETS.index(name) for name in ("curvature", "clearance")]
+    assert np.isnan(y[..., film]).all() and np.isfinite(np.delete(y, film, axis=-1)).all()
+    assert all(norm.target_scale[k] == 1.0 for k in film)

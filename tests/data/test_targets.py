@@ -5,7 +5,7 @@ import pytest
 
 from ftfof.data import targets
 from ftfof.objectives import JITTER_SIGMAS, jitter_exceedance
-from tests.data.fake import SWITCH, fake_channels, film_curvature
+from tests.data.fake import SWITCH, fake_channels, film_clearance, film_curvature
 
 T3, HOLD, N = 1.0, 0.1, 100
 
@@ -70,12 +70,35 @@ def test_film_curvature_is_binned_by_maximum_and_masked_where_unseen():
     assert targets.binned(ch, T3, HOLD, N)["curvature"].max() == pytest.approx(100.0, rel=1e-6)
 
 
+def test_pad_clearance_is_binned_by_maximum_and_masked_where_unseen():
+    ch = fake_channels(3.0, with_film=False)
+    assert np.isnan(targets.binned(ch, T3, HOLD, N)["clearance"]).all()
+    ch["film_clearance"] = film_clearance(ch["t"])
+    assert targets.binned(ch, T3, HOLD, N)["clearance"].max() == pytest.approx(0.02, rel=1e-4)
+
+
+def test_a_pad_that_never_lets_go_pulls_to_the_end_and_never_lands():
+    """The switch never trips: the pad drags and re-bonds while the foot moves. Its pull counts
+    to the end (the landing drag too) and it has no landing press, as the acquisition says."""
+    ch = fake_channels(4.0)
+    t = ch["t"]
+    ch["switch"] = np.zeros_like(t)
+    ch["bonds"] = np.where(t > 0.9, 5.0, ch["bonds"])  # re-bonded at the landing, still moving
+    ch["Fx_pad"] = np.where(t > 0.9, 30.0, ch["Fx_pad"])  # dragged along the wall
+    s = targets.binned(ch, T3, HOLD, N)
+    assert s["pull"].max() == pytest.approx(30.0, rel=1e-3)
+    assert np.all(s["Fp"] == 0)
+
+
 def test_a_force_log_supplies_the_forces_only():
     ch = fake_channels(4.0)
     nan = np.full_like(ch["t"], np.nan)
-    ch.update(Fx_pad=nan, body_acc=nan, bonds=nan, switch=nan, film_curvature=nan)
+    ch.update(
+        Fx_pad=nan, body_acc=nan, bonds=nan, switch=nan, film_curvature=nan, film_clearance=nan
+    )
     s = targets.binned(ch, T3, HOLD, N)
     assert s["Fd"].max() == pytest.approx(4.0, rel=1e-6)  # the tension it measured
     assert np.isnan(s["pull"]).all() and np.isnan(s["jitter"]).all()  # no resultant: masked
     assert np.isnan(s["body_acc"]).all() and np.isnan(s["curvature"]).all()
+    assert np.isnan(s["clearance"]).all()
     assert s["Fp"].max() == pytest.approx(5.0, rel=1e-3)  # detachment by eq. 11's 5 % rule

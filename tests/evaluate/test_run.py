@@ -84,12 +84,17 @@ def test_front_members_show_each_trade_and_the_film_verdict():
     sims = _simulations().assign(source=[OPTIMUM, "front"], sample_id=[7, 3])
     sims["min_bend_radius"] = [0.0025, 0.0012]
     sims["landing_pre_pressure"] = [5.5, 4.0]
-    out = front_members(sims, T3, 5.0, FilmLimit(fc=0.006, peel_root=0.002, fraction=0.75))
+    sims["max_clearance"] = [0.03, 0.0015]
+    sims["switch_time"] = [0.3, float("nan")]  # the second never let go
+    out = front_members(
+        sims, T3, 5.0, FilmLimit(fc=0.006, peel_root=0.002, fraction=0.75), clearance=0.009
+    )
     first, other = out["members"]
     assert first["optimum"] and first["row"] == 7 and first["film_safe"]
     assert other["row"] == 3 and not other["film_safe"]
     assert other["landing_pre_pressure_error"] == pytest.approx(1.0)
     assert out["film_safe_fraction"] == 0.5 and out["film_limit"]["limit"] == 0.0015
+    assert first["lets_go"] and not other["lets_go"] and out["lets_go_fraction"] == 0.5
 
 
 def test_the_table_lists_the_reference_then_baselines_then_the_paper_optimum_then_ours():

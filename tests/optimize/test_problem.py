@@ -5,7 +5,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from ftfof.optimize.problem import TrajectoryProblem
+from ftfof.optimize.problem import PhysicalLimits, TrajectoryProblem
 from ftfof.trajectory.sampling import sample_feasible
 
 
@@ -16,7 +16,7 @@ def _problem(ctx, surrogate, objectives=None):
         surrogate,
         robot.objectives if objectives is None else objectives,
         robot.pre_pressure,
-        robot.foot.film_min_bend_radius,
+        PhysicalLimits(robot.foot.film_min_bend_radius, robot.foot.swing_clearance),
     )
 
 
@@ -41,17 +41,24 @@ def test_shapes_and_box(ctx, surrogate):
     assert set(result.series) == set(surrogate.trained)
     for series in result.series.values():
         assert series.shape == (9, surrogate.seq_len) and np.all(series >= 0)
-    fc = ctx.robot.foot.film_min_bend_radius
-    np.testing.assert_allclose(result.film, fc * result.series["curvature"].max(axis=1) - 1)
-    np.testing.assert_allclose(out["G"][:, -1], result.film)  # film safety: the last column
+    foot = ctx.robot.foot
+    film, clear = result.physical["film_safety"], result.physical["pad_clearance"]
+    np.testing.assert_allclose(
+        film, foot.film_min_bend_radius * result.series["curvature"].max(1) - 1
+    )
+    np.testing.assert_allclose(clear, 1 - result.series["clearance"].max(1) / foot.swing_clearance)
+    # the physical limits are the last columns, in PhysicalLimits' order
+    np.testing.assert_allclose(out["G"][:, -2:], np.column_stack([film, clear]))
 
 
-def test_an_untrained_film_target_is_no_constraint(m3f, surrogate):
-    untrained = dataclasses.replace(surrogate, trained=surrogate.trained[:-1])
+@pytest.mark.parametrize("dropped", ["curvature", "clearance"])
+def test_an_untrained_physical_target_is_no_constraint(m3f, surrogate, dropped):
+    trained = tuple(n for n in surrogate.trained if n != dropped)
+    untrained = dataclasses.replace(surrogate, trained=trained)
     problem = _problem(m3f, untrained)
-    assert not problem.film_constrained and problem.n_ieq_constr == len(problem.rules)
-    with pytest.raises(ValueError, match="curvature"):
-        untrained.predict(np.zeros((1, 32, 2)), np.zeros((1, 32, 2)), ["curvature"])
+    assert problem.n_ieq_constr == len(problem.rules) + 1 and len(problem.physical) == 1
+    with pytest.raises(ValueError, match=dropped):
+        untrained.predict(np.zeros((1, 32, 2)), np.zeros((1, 32, 2)), [dropped])
 
 
 def test_constraints_agree_with_the_policy(ctx, surrogate):

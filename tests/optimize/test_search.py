@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from ftfof.optimize.problem import TrajectoryProblem
+from ftfof.optimize.problem import PhysicalLimits, TrajectoryProblem
 from ftfof.optimize.search import Convergence, SearchSettings, search, warm_population
 from ftfof.trajectory.sampling import sample_feasible
 
@@ -18,7 +18,7 @@ def problem(m3f, surrogate):
         surrogate,
         robot.objectives,
         robot.pre_pressure,
-        robot.foot.film_min_bend_radius,
+        PhysicalLimits(robot.foot.film_min_bend_radius, robot.foot.swing_clearance),
     )
 
 

@@ -95,3 +95,32 @@ def test_min_bend_radius_converges_with_the_node_count(params):
         k = r.channels["film_curvature"]
         assert 1 / k[r.channels["t"] >= 0].max() == pytest.approx(r.scalars["min_bend_radius"])
         assert k[r.channels["t"] < -0.01].max() == 0.0 and k[-1] == 0.0
+
+
+# A low swing found by the optimiser (front row 14 of a run before the clearance rule): P10z is
+# at the eq. 18 bound hs, and the pad's tail never leaves the wall
+LOW_SWING = np.array([0.0, 0.1, 4.9, 109.4, 120.6, 121.7, 0.7, 1.4, 9.7, 5.4, 0.2, 1.4]) / 1000
+
+
+@pytest.mark.integration
+def test_a_swing_that_leaves_the_pad_on_the_wall_never_lets_go(params):
+    """The clearance channel: 0 while the pad touches, its lowest point's height after. The
+    polynomial lifts the whole pad far clear and trips the switch; the low swing drags its tail
+    (the switch never trips), re-bonds it while still moving and pulls several times harder."""
+    b = bench(params)
+    poly = Polynomial(np.array([0.12, 0.0]), params.baselines.lift_height, 1.0)
+    with ProcessPoolExecutor(2) as pool:
+        lifted, dragged = pool.map(
+            simulate, [b.analytic("poly", 0, poly), b.bezier("low", 0, LOW_SWING)]
+        )
+    assert lifted.ok and dragged.ok, (lifted.error, dragged.error)
+    required = params.selected_robot.foot.swing_clearance
+    clear = lifted.channels["film_clearance"]
+    assert clear[lifted.channels["bonds"] > 0].max() == 0.0
+    assert lifted.scalars["max_clearance"] == pytest.approx(clear.max())
+    assert lifted.scalars["max_clearance"] > 2 * required and np.isfinite(
+        lifted.scalars["switch_time"]
+    )
+    assert dragged.scalars["max_clearance"] < params.platform.protocol.switch_height
+    assert np.isnan(dragged.scalars["switch_time"])
+    assert dragged.scalars["peak_pull"] > 2 * lifted.scalars["peak_pull"]

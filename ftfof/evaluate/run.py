@@ -16,6 +16,7 @@ import pandas as pd
 from ftfof.config import Params
 from ftfof.data import targets
 from ftfof.data.dataset import CHANNELS
+from ftfof.data.release import release_fault
 from ftfof.errors import SimulationError
 from ftfof.evaluate.export import ControllerTrajectory, ExportRateError, controller_trajectory
 from ftfof.evaluate.fidelity import Fidelity, fidelity, simulated_objectives
@@ -105,7 +106,11 @@ def table_rows(df: pd.DataFrame, reference: str, T3: float) -> list[TableRow]:
 
 
 def front_members(
-    df: pd.DataFrame, T3: float, pre_pressure: float, film: FilmLimit, clearance: float
+    df: pd.DataFrame,
+    timing: tuple[float, float],
+    pre_pressure: float,
+    film: FilmLimit,
+    clearance: float,
 ) -> dict:
     """The re-simulated optimum and front members side by side: what each trades (pull, jitter,
     landing press), whether its film survives and its pad lets go and clears the wall, so the
@@ -113,8 +118,17 @@ def front_members(
     sims = df[df.source.isin([OPTIMUM, "front"])]
     sims = sims.assign(first=sims.source != OPTIMUM).sort_values(["first", "sample_id"])
     members = []
+    T2, T3 = timing
     for _, row in sims.iterrows():  # a few tens of rows, once per evaluation
         f = figures_of(row, T3)
+        fault = release_fault(
+            np.asarray(row.t, dtype=float),
+            np.asarray(row.bonds, dtype=float),
+            row.switch_time,
+            row.max_clearance,
+            clearance,
+            T2,
+        )
         members.append(
             {
                 "row": int(row.sample_id),
@@ -127,7 +141,8 @@ def front_members(
                 "min_bend_radius": round(f["min_bend_radius"], 6),
                 "film_safe": bool(f["min_bend_radius"] >= film.radius),
                 "max_clearance": round(float(row.max_clearance), 6),
-                "lets_go": bool(np.isfinite(row.switch_time) and row.max_clearance >= clearance),
+                "lets_go": not fault,
+                "release_fault": fault,
             }
         )
 
@@ -317,7 +332,10 @@ def evaluate(
     T3 = ctx.policy.timing.T3
     rows = table_rows(table, cfg.reference, T3)
     film = film_limit(ctx.robot, params.selected_surface)
-    front = front_members(table, T3, ctx.robot.pre_pressure, film, ctx.robot.foot.swing_clearance)
+    timing = (ctx.policy.timing.T2, T3)
+    front = front_members(
+        table, timing, ctx.robot.pre_pressure, film, ctx.robot.foot.swing_clearance
+    )
     fid, predicted, simulated = fidelity_of(inputs, table, ctx, surrogate)
     controller = export(ctx, inputs, cfg.export_rate_hz)
     summary = metrics(params, inputs, rows, fid, controller, len(predicted), front)

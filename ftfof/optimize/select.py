@@ -64,7 +64,8 @@ def choose(
     """Recheck the front on ``optimize.recheck_samples`` points; RHS among the rows that pass.
 
     With ``check``, the RHS choice is re-simulated; a candidate the simulator refuses (the film
-    bent below its limit, a failed run) is dropped and RHS chooses again among the rest, up to
+    bent below its limit, a pad that does not let go cleanly, a failed run) is dropped and RHS
+    chooses again among the rest, up to
     ``optimize.verify_candidates`` times: the surrogate proposes, the simulator disposes.
     """
     cfg = params.optimize

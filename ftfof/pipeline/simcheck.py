@@ -3,11 +3,10 @@ real foot would not survive it, whatever the surrogates predicted (issue: film s
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from ftfof.config import Params
+from ftfof.data.release import release_fault
 from ftfof.optimize.select import SimulatorCheck, Verdict
 from ftfof.pipeline.bench import bench
 from ftfof.robot import RobotContext
@@ -26,33 +25,34 @@ MEASURED = (
 
 def simulator_check(params: Params, ctx: RobotContext) -> SimulatorCheck:
     """A check that simulates a decision row and passes it when the run succeeds, the pad lets go
-    (the detachment switch trips), the whole pad rises ``foot.swing_clearance`` above the wall,
-    and the film's minimum bend radius stays at or above its safety limit
-    (:class:`ftfof.sim.film.FilmLimit`)."""
+    cleanly (:func:`ftfof.data.release.release_fault`: the switch trips, the whole pad rises
+    ``foot.swing_clearance`` above the wall and stays off it until the landing) and the film's
+    minimum bend radius stays at or above its safety limit (:class:`ftfof.sim.film.FilmLimit`)."""
     from ftfof.sim.film import film_limit
     from ftfof.sim.simulate import simulate
 
     on = bench(params, ctx)
     limit = film_limit(ctx.robot, params.selected_surface).radius
     clearance = ctx.robot.foot.swing_clearance
+    landing_start = ctx.policy.timing.T2
 
     def check(row: int, X: np.ndarray) -> Verdict:
         result = simulate(on.bezier("verify", row, X))
         measured = {k: float(result.scalars[k]) for k in MEASURED if k in result.scalars}
         if not result.ok:
             return Verdict(row, False, f"simulation failed: {result.error}", measured)
-        if not math.isfinite(measured["switch_time"]):
+        c = result.channels
+        fault = release_fault(
+            c["t"],
+            c["bonds"],
+            measured["switch_time"],
+            measured["max_clearance"],
+            clearance,
+            landing_start,
+        )
+        if fault:
             pull = measured["peak_pull"]
-            return Verdict(row, False, f"the pad never let go (peak pull {pull:.1f} N)", measured)
-        rose = measured["max_clearance"]
-        if rose < clearance:
-            return Verdict(
-                row,
-                False,
-                f"the pad rose only {1e3 * rose:.1f} mm above the wall (needs "
-                f"{1e3 * clearance:.1f} mm)",
-                measured,
-            )
+            return Verdict(row, False, f"{fault} (peak pull {pull:.1f} N)", measured)
         bend = measured["min_bend_radius"]
         if bend < limit:
             return Verdict(

@@ -87,7 +87,7 @@ def test_front_members_show_each_trade_and_the_film_verdict():
     sims["max_clearance"] = [0.03, 0.0015]
     sims["switch_time"] = [0.3, float("nan")]  # the second never let go
     out = front_members(
-        sims, T3, 5.0, FilmLimit(fc=0.006, peel_root=0.002, fraction=0.75), clearance=0.009
+        sims, (0.6, T3), 5.0, FilmLimit(fc=0.006, peel_root=0.002, fraction=0.75), clearance=0.009
     )
     first, other = out["members"]
     assert first["optimum"] and first["row"] == 7 and first["film_safe"]
@@ -95,6 +95,7 @@ def test_front_members_show_each_trade_and_the_film_verdict():
     assert other["landing_pre_pressure_error"] == pytest.approx(1.0)
     assert out["film_safe_fraction"] == 0.5 and out["film_limit"]["limit"] == 0.0015
     assert first["lets_go"] and not other["lets_go"] and out["lets_go_fraction"] == 0.5
+    assert other["release_fault"] == "the pad never let go"
 
 
 def test_the_table_lists_the_reference_then_baselines_then_the_paper_optimum_then_ours():

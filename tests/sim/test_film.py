@@ -5,6 +5,7 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 import pytest
 
+from ftfof.pipeline.simcheck import simulator_check
 from ftfof.sim import film
 from ftfof.sim.simulate import simulate
 from ftfof.trajectory.baselines import Polynomial
@@ -124,3 +125,13 @@ def test_a_swing_that_leaves_the_pad_on_the_wall_never_lets_go(params):
     assert dragged.scalars["max_clearance"] < params.platform.protocol.switch_height
     assert np.isnan(dragged.scalars["switch_time"])
     assert dragged.scalars["peak_pull"] > 2 * lifted.scalars["peak_pull"]
+
+
+@pytest.mark.integration
+def test_the_simulator_check_refuses_a_swing_that_drags_its_pad_and_passes_pf(params, m3f):
+    check = simulator_check(params, m3f)
+    dragged = check(14, LOW_SWING)
+    assert not dragged.ok and dragged.reason.startswith("the pad never let go"), dragged.reason
+    published = check(0, PUBLISHED)
+    assert published.ok, published.reason
+    assert published.measured["max_clearance"] >= m3f.robot.foot.swing_clearance

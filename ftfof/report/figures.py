@@ -70,6 +70,7 @@ TITLES = {
     "jitter": "fs7 exceedance density",
     "body_acc": "body acceleration [m/s²]",
     "curvature": "film curvature [1/m]",
+    "clearance": "pad clearance [m]",
 }
 
 

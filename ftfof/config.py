@@ -375,7 +375,7 @@ class Optimize(Strict):
     recheck_samples: Annotated[int, Field(ge=16)] = 4096  # independent feasibility grid
     rhs_alpha: Fraction = 0.9  # Algorithm 1: initial fraction of each objective's range
     rhs_beta: Annotated[float, Field(gt=0, lt=1)] = 0.9  # Algorithm 1: shrink factor
-    verify_candidates: NonNegativeInt = 10  # RHS candidates re-simulated at most; 0 = trust
+    verify_candidates: NonNegativeInt = 8  # RHS candidates simulated, then chosen on; 0 = trust
 
 
 class RefineTarget(Strict):

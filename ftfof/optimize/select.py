@@ -47,6 +47,8 @@ class Verdict:
     ok: bool
     reason: str  # why it was refused ("" when ok)
     measured: dict[str, float]
+    # the robot's objectives from the simulated forces, in priority order (empty when it failed)
+    simulated: list[float] = field(default_factory=list)
 
 
 # Simulates a decision row and judges it; ``row`` is the front row, for the record.
@@ -63,20 +65,27 @@ def choose(
 ) -> Outcome:
     """Recheck the front on ``optimize.recheck_samples`` points; RHS among the rows that pass.
 
-    With ``check``, the RHS choice is re-simulated; a candidate the simulator refuses (the film
-    bent below its limit, a pad that does not let go cleanly, a failed run) is dropped and RHS
-    chooses again among the rest, up to
-    ``optimize.verify_candidates`` times: the surrogate proposes, the simulator disposes.
+    With ``check``, the surrogate proposes and the simulator disposes (:func:`verified_rhs`):
+    the first ``optimize.verify_candidates`` RHS candidates are re-simulated, those the simulator
+    refuses (the film bent below its limit, a pad that does not let go cleanly, a failed run) are
+    dropped, and RHS chooses among the rest on their simulated objectives.
     """
     cfg = params.optimize
     policy = ctx.policy
     if not result.feasible:
-        worst = policy.check(policy.expand(result.X)).failed(0)
+        least = problem.evaluate_population(result.X[:1])
+        worst = policy.check(least.X).failed(0)
+        worst += [
+            f"{name} (predicted g = {float(g[0]):.3g})"
+            for name, g in least.physical.items()
+            if g[0] > 0
+        ]
         raise OptimizationError(
             "optimize",
             f"no feasible trajectory after {result.generations} generations; the least "
             f"infeasible violates {'; '.join(worst[:3])} (try optimize.seeded_start: true or "
-            "more generations)",
+            "more generations; a physical limit the surrogate predicts nowhere met needs a "
+            "surrogate trained on more data)",
         )
     order = np.lexsort(result.F.T[::-1])  # priority order: first objective is the primary key
     free = result.X[order]
@@ -142,30 +151,35 @@ def verified_rhs(
     check: SimulatorCheck | None,
     limit: int,
 ) -> tuple[int, RHSResult, np.ndarray, list[Verdict]]:
-    """RHS among ``rows``; each choice the check refuses is dropped and RHS runs again.
+    """RHS on the predicted objectives ``F`` ranks ``limit`` candidates among ``rows`` (RHS's
+    choice, then its choice among the rest, ...); each is simulated, and RHS chooses again among
+    those the check passes, on their *simulated* objectives: the surrogates are off by more than
+    the differences RHS weighs near the front's best, the simulator is not.
 
     Returns the chosen row, its RHS trace (over the returned rows), the rows it ran over and the
-    verdicts in order. Refused ``limit`` times, or out of rows, is an OptimizationError naming the
-    first refusals. ``limit`` 0 (or no check) trusts the surrogates.
+    verdicts in order. None passing is an OptimizationError naming the first refusals. ``limit``
+    0 (or no check) trusts the surrogates: RHS on ``F`` over ``rows``.
     """
-    verdicts: list[Verdict] = []
     priority = list(range(F.shape[1]))
-    while True:
+    if check is None or limit == 0:
         rhs = rhs_trace(F[rows], priority, cfg.rhs_alpha, cfg.rhs_beta)
-        index = int(rows[rhs.index])
-        if check is None or limit == 0:
-            return index, rhs, rows, verdicts
+        return int(rows[rhs.index]), rhs, rows, []
+    verdicts: list[Verdict] = []
+    while rows.size and len(verdicts) < limit:
+        index = int(rows[rhs_trace(F[rows], priority, cfg.rhs_alpha, cfg.rhs_beta).index])
         verdicts.append(check(index, X[index]))
-        if verdicts[-1].ok:
-            return index, rhs, rows, verdicts
         rows = rows[rows != index]
-        if rows.size == 0 or len(verdicts) == limit:
-            refused = "; ".join(f"row {v.row}: {v.reason}" for v in verdicts[:3])
-            raise OptimizationError(
-                "optimize",
-                f"the simulator refused the first {len(verdicts)} RHS candidates ({refused}); "
-                "raise optimize.verify_candidates or retrain the surrogates where they fail",
-            )
+    passed = [v for v in verdicts if v.ok]
+    if not passed:
+        refused = "; ".join(f"row {v.row}: {v.reason}" for v in verdicts[:3])
+        raise OptimizationError(
+            "optimize",
+            f"the simulator refused the first {len(verdicts)} RHS candidates ({refused}); "
+            "raise optimize.verify_candidates or retrain the surrogates where they fail",
+        )
+    simulated = np.array([v.simulated for v in passed])
+    rhs = rhs_trace(simulated, priority, cfg.rhs_alpha, cfg.rhs_beta)
+    return passed[rhs.index].row, rhs, np.array([v.row for v in passed]), verdicts
 
 
 def front_table(outcome: Outcome, ctx: RobotContext, models_digest: str) -> pa.Table:

@@ -6,7 +6,9 @@ from __future__ import annotations
 import numpy as np
 
 from ftfof.config import Params
+from ftfof.data import targets
 from ftfof.data.release import release_fault
+from ftfof.evaluate.fidelity import simulated_objectives
 from ftfof.optimize.select import SimulatorCheck, Verdict
 from ftfof.pipeline.bench import bench
 from ftfof.robot import RobotContext
@@ -24,7 +26,8 @@ MEASURED = (
 
 
 def simulator_check(params: Params, ctx: RobotContext) -> SimulatorCheck:
-    """A check that simulates a decision row and passes it when the run succeeds, the pad lets go
+    """A check that simulates a decision row, with the robot's objectives from its simulated
+    forces (binned as the surrogate's targets), and passes it when the run succeeds, the pad lets go
     cleanly (:func:`ftfof.data.release.release_fault`: the switch trips, the whole pad rises
     ``foot.swing_clearance`` above the wall and stays off it until the landing) and the film's
     minimum bend radius stays at or above its safety limit (:class:`ftfof.sim.film.FilmLimit`)."""
@@ -32,6 +35,8 @@ def simulator_check(params: Params, ctx: RobotContext) -> SimulatorCheck:
     from ftfof.sim.simulate import simulate
 
     on = bench(params, ctx)
+    d = params.dataset
+    force_t = targets.time_base(ctx.policy.timing.T3, d.hold, d.seq_len)
     limit = film_limit(ctx.robot, params.selected_surface).radius
     clearance = ctx.robot.foot.swing_clearance
     landing_start = ctx.policy.timing.T2
@@ -61,6 +66,9 @@ def simulator_check(params: Params, ctx: RobotContext) -> SimulatorCheck:
                 f"film bent to {1e3 * bend:.2f} mm, below its {1e3 * limit:.2f} mm limit",
                 measured,
             )
-        return Verdict(row, True, "", measured)
+        objectives = simulated_objectives(
+            ctx.robot.objectives, ctx.policy, X, [c], force_t, d.hold, ctx.robot.pre_pressure
+        )[0]
+        return Verdict(row, True, "", measured, [float(v) for v in objectives])
 
     return check

@@ -2,7 +2,7 @@
 
 A fake sample presses with 5 N, peels with a Gaussian pull of ``peak`` (normal) and 0.4 of it in
 shear, loses its bonds over the pull, trips the switch at 0.2 s, rings the body on release and
-lands at 1.05 s; its film bends with the pull and its pad rises to 20 mm in the swing (NaN
+lands at 1.05 s; its film bends with the pull and its pad rises to 50 mm in the swing (NaN
 ``with_film=False``: a force log).
 """
 
@@ -23,8 +23,8 @@ def film_curvature(t: np.ndarray, peak: float) -> np.ndarray:
 
 
 def film_clearance(t: np.ndarray) -> np.ndarray:
-    """m: the pad clear of the wall from its release (0.15 s) to its landing, 20 mm at most."""
-    return np.where((t > 0.15) & (t < 1.0), 0.02 * np.sin(np.pi * (t - 0.15) / 0.85), 0.0)
+    """m: the pad clear of the wall from its release (0.15 s) to its landing, 50 mm at most."""
+    return np.where((t > 0.15) & (t < 1.0), 0.05 * np.sin(np.pi * (t - 0.15) / 0.85), 0.0)
 
 
 def fake_channels(peak: float, with_film: bool = True) -> dict[str, np.ndarray]:

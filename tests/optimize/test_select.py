@@ -30,22 +30,38 @@ def _front():
     return F, np.arange(10.0).reshape(5, 2)
 
 
-def test_a_refused_rhs_choice_falls_back_to_the_next_candidate():
+def test_rhs_chooses_among_the_passing_candidates_on_their_simulated_objectives():
     F, X = _front()
     first, *_ = verified_rhs(F, X, np.arange(5), _cfg(), None, 5)
+    second, *_ = verified_rhs(F, X, np.delete(np.arange(5), first), _cfg(), None, 5)
+    simulated = {r: [0.5, 0.5] for r in range(5)}
+    simulated[4 if second != 4 else 3] = [0.05, 9.0]  # the simulator's best first objective
     seen = []
 
     def check(row, x):
         seen.append((row, tuple(x)))
-        return Verdict(row, row != first, "film bent" if row == first else "", {})
+        ok = row != first
+        return Verdict(row, ok, "" if ok else "film bent", {}, simulated[row] if ok else [])
 
     index, rhs, rows, verdicts = verified_rhs(F, X, np.arange(5), _cfg(), check, 5)
-    assert [v.row for v in verdicts] == [first, index] and index != first
+    # every candidate simulated, in RHS's order on the predictions; the refused one dropped
+    assert [v.row for v in verdicts][:2] == [first, second] and len(verdicts) == 5
     assert seen[0] == (first, tuple(X[first]))  # the check is given the row's own decision
-    assert first not in rows and int(rows[rhs.index]) == index
-    # the fallback is RHS's choice among the remaining rows
-    rest = np.delete(np.arange(5), first)
-    assert index == verified_rhs(F, X, rest, _cfg(), None, 5)[0]
+    assert first not in rows and sorted(rows) == sorted(set(range(5)) - {first})
+    # RHS on the simulated objectives: the simulator's best, not the surrogate's
+    assert index == (4 if second != 4 else 3) and int(rows[rhs.index]) == index
+
+
+def test_the_limit_bounds_the_simulations():
+    F, X = _front()
+    calls = []
+
+    def check(row, x):
+        calls.append(row)
+        return Verdict(row, True, "", {}, list(F[row]))
+
+    index, _, rows, _ = verified_rhs(F, X, np.arange(5), _cfg(), check, 2)
+    assert len(calls) == 2 and index in calls and sorted(rows) == sorted(calls)
 
 
 def test_no_check_or_a_zero_limit_trusts_the_surrogates():

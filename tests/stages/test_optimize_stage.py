@@ -67,14 +67,18 @@ def test_front_and_optimum_are_written(optimized):
         assert optimum["decision"][name] == pytest.approx(chosen[name])
     assert len(optimum["control_points"]) == 16
     assert max(optimum["recheck"]["violation"].values()) <= 0
-    # the simulator had the last word: the chosen row is the last one it checked, and it passed
+    # the simulator had the last word: the chosen row is one it passed, with its simulated
+    # objectives; every refusal says why
     checked = Params.model_validate(data)
     limit = film_limit(checked.selected_robot, checked.selected_surface).radius
-    *refused, accepted = optimum["simulator_check"]
-    assert accepted["ok"] and accepted["row"] == optimum["front_row"]
+    verdicts = optimum["simulator_check"]
+    (accepted,) = [v for v in verdicts if v["row"] == optimum["front_row"]]
+    assert accepted["ok"] and len(accepted["simulated"]) == len(objectives)
     assert accepted["measured"]["min_bend_radius"] >= limit
     assert accepted["measured"]["switch_time"] > 0  # the pad let go (NaN: it never did)
-    assert all(not v["ok"] and v["reason"] for v in refused)
+    foot = checked.selected_robot.foot
+    assert accepted["measured"]["max_clearance"] >= foot.swing_clearance
+    assert all(v["reason"] and not v["simulated"] for v in verdicts if not v["ok"])
     assert len(optimum["predicted"]["pull"]) == len(optimum["predicted"]["t"])
     summary = json.loads((tmp / f"opt_{robot}_optimize.json").read_text())
     assert summary["generations"] == TINY["generations"] and summary["robot"] == robot

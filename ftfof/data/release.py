@@ -14,6 +14,17 @@ import numpy as np
 from numpy.typing import NDArray
 
 
+def swing_gap(clearance: NDArray[np.float64], t: NDArray[np.float64], required: float,
+              landing_start: float) -> NDArray[np.float64]:  # fmt: skip
+    """(..., n) clearance series on the times ``t`` -> (...,) the lowest the pad comes to the
+    wall between first rising ``required`` above it and the landing segment; 0 if it never
+    rises that far. The continuous measure of a clean release that a surrogate can predict."""
+    risen = np.cumsum(clearance >= required, axis=-1) > 0
+    window = risen & (t < landing_start)
+    lowest = np.min(np.where(window, clearance, np.inf), axis=-1)
+    return np.where(window.any(axis=-1), lowest, 0.0)
+
+
 def release_fault(
     t: NDArray[np.float64],
     bonds: NDArray[np.float64],

@@ -26,6 +26,7 @@ from numpy.typing import NDArray
 from pymoo.core.problem import Problem
 from threadpoolctl import ThreadpoolController
 
+from ftfof.data.release import swing_gap
 from ftfof.objectives import Evidence, film_safety, pad_clearance, strategy_values
 from ftfof.surrogate.predict import Surrogate
 from ftfof.trajectory.policy import Constraint, ConstraintPolicy, FeasibilityReport
@@ -36,11 +37,15 @@ Array = NDArray[np.float64]
 @dataclass(frozen=True)
 class PhysicalLimits:
     """What a real foot must survive, measured in the simulator and predicted by the surrogate:
-    g <= 0 where it holds (``film_safety``: limit * max film curvature - 1; ``pad_clearance``:
-    1 - max pad clearance / required)."""
+    g <= 0 where it holds. ``film_safety``: limit * max film curvature - 1. ``pad_clearance``,
+    the clean release of :mod:`ftfof.data.release` on the predicted clearance: the larger of
+    1 - max clearance / swing_clearance (the whole pad rises clear) and 1 - swing gap / detached
+    (once risen, it stays at least the switch's height off the wall until the landing)."""
 
     film_radius: float  # m, ftfof.sim.film.FilmLimit.radius
     swing_clearance: float  # m, robot.foot.swing_clearance
+    detached: float  # m, platform.protocol.switch_height: above it the pad counts as off
+    landing_start: float  # s, T2
 
     TARGETS: ClassVar[dict[str, str]] = {"film_safety": "curvature", "pad_clearance": "clearance"}
 
@@ -48,12 +53,19 @@ class PhysicalLimits:
         """The limits whose channel the surrogate was trained on."""
         return tuple(name for name, target in self.TARGETS.items() if target in trained)
 
-    def violations(self, series: Mapping[str, Array], names: Sequence[str]) -> dict[str, Array]:
+    def violations(
+        self, series: Mapping[str, Array], t: Array, names: Sequence[str]
+    ) -> dict[str, Array]:
+        """name -> (pop,) g for the ``names`` limits, from series on the times ``t``."""
         rules = {
             "film_safety": lambda: film_safety(series["curvature"], self.film_radius),
-            "pad_clearance": lambda: pad_clearance(series["clearance"], self.swing_clearance),
+            "pad_clearance": lambda: self._release(series["clearance"], t),
         }
         return {name: rules[name]() for name in names}
+
+    def _release(self, clearance: Array, t: Array) -> Array:
+        gap = swing_gap(clearance, t, self.swing_clearance, self.landing_start)
+        return np.maximum(pad_clearance(clearance, self.swing_clearance), 1.0 - gap / self.detached)
 
 
 @dataclass(frozen=True)
@@ -121,7 +133,7 @@ class TrajectoryProblem(Problem):
         )
         F = strategy_values(self.objectives, evidence)
         report = self.policy.check(X, samples=path, constraints=self.rules)
-        physical = self.limits.violations(series, self.physical)
+        physical = self.limits.violations(series, self.force_t, self.physical)
         return PopulationEvaluation(X, F, report, series, physical, self.force_t)
 
     def _evaluate(self, x: Array, out: dict, *args, **kwargs) -> None:

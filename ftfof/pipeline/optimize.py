@@ -99,7 +99,10 @@ def build_setup(
         robot.objectives,
         robot.pre_pressure,
         PhysicalLimits(
-            film_limit(robot, params.selected_surface).radius, robot.foot.swing_clearance
+            film_limit(robot, params.selected_surface).radius,
+            robot.foot.swing_clearance,
+            params.platform.protocol.switch_height,
+            ctx.policy.timing.T2,
         ),
     )
     unseen = set(PhysicalLimits.TARGETS) - set(problem.physical)

@@ -5,6 +5,7 @@ import dataclasses
 import numpy as np
 import pytest
 
+from ftfof.data.release import swing_gap
 from ftfof.optimize.problem import PhysicalLimits, TrajectoryProblem
 from ftfof.trajectory.sampling import sample_feasible
 
@@ -16,7 +17,9 @@ def _problem(ctx, surrogate, objectives=None):
         surrogate,
         robot.objectives if objectives is None else objectives,
         robot.pre_pressure,
-        PhysicalLimits(robot.foot.film_min_bend_radius, robot.foot.swing_clearance),
+        PhysicalLimits(
+            robot.foot.film_min_bend_radius, robot.foot.swing_clearance, 0.002, ctx.policy.timing.T2
+        ),
     )
 
 
@@ -46,7 +49,11 @@ def test_shapes_and_box(ctx, surrogate):
     np.testing.assert_allclose(
         film, foot.film_min_bend_radius * result.series["curvature"].max(1) - 1
     )
-    np.testing.assert_allclose(clear, 1 - result.series["clearance"].max(1) / foot.swing_clearance)
+    predicted = result.series["clearance"]
+    gap = swing_gap(predicted, result.t, foot.swing_clearance, ctx.policy.timing.T2)
+    np.testing.assert_allclose(
+        clear, np.maximum(1 - predicted.max(1) / foot.swing_clearance, 1 - gap / 0.002)
+    )
     # the physical limits are the last columns, in PhysicalLimits' order
     np.testing.assert_allclose(out["G"][:, -2:], np.column_stack([film, clear]))
 

@@ -93,8 +93,12 @@ def free_span_curvature(coords: Array, x_ref: Array, edge: int, bonded: Array) -
     front = edge + np.argmax(past, axis=1)  # first bonded node at or past the edge
     element = np.arange(n - 1)
     free = (element[None] >= edge) & (element[None] < front[:, None]) & has_front[:, None]
-    kappa = element_curvature(coords, x_ref).max(axis=2)
-    return np.where(free, kappa, 0.0).max(axis=1, initial=0.0)
+    out = np.zeros(len(bonded))
+    peeling = np.flatnonzero(free.any(axis=1))  # the curvature is needed only while peeling
+    if peeling.size:
+        kappa = element_curvature(coords[peeling], x_ref).max(axis=2)
+        out[peeling] = np.where(free[peeling], kappa, 0.0).max(axis=1)
+    return out
 
 
 @numba.njit(cache=True)

@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from ftfof.config import Params
+from ftfof.config import Params, Timing
 from ftfof.data import targets
 from ftfof.data.dataset import CHANNELS
 from ftfof.data.release import release_fault
@@ -107,7 +107,7 @@ def table_rows(df: pd.DataFrame, reference: str, T3: float) -> list[TableRow]:
 
 def front_members(
     df: pd.DataFrame,
-    timing: tuple[float, float],
+    timing: Timing,
     pre_pressure: float,
     film: FilmLimit,
     clearance: float,
@@ -118,16 +118,15 @@ def front_members(
     sims = df[df.source.isin([OPTIMUM, "front"])]
     sims = sims.assign(first=sims.source != OPTIMUM).sort_values(["first", "sample_id"])
     members = []
-    T2, T3 = timing
     for _, row in sims.iterrows():  # a few tens of rows, once per evaluation
-        f = figures_of(row, T3)
+        f = figures_of(row, timing.T3)
         fault = release_fault(
             np.asarray(row.t, dtype=float),
             np.asarray(row.bonds, dtype=float),
             row.switch_time,
             row.max_clearance,
             clearance,
-            T2,
+            timing.T2,
         )
         members.append(
             {
@@ -332,9 +331,8 @@ def evaluate(
     T3 = ctx.policy.timing.T3
     rows = table_rows(table, cfg.reference, T3)
     film = film_limit(ctx.robot, params.selected_surface)
-    timing = (ctx.policy.timing.T2, T3)
     front = front_members(
-        table, timing, ctx.robot.pre_pressure, film, ctx.robot.foot.swing_clearance
+        table, ctx.policy.timing, ctx.robot.pre_pressure, film, ctx.robot.foot.swing_clearance
     )
     fid, predicted, simulated = fidelity_of(inputs, table, ctx, surrogate)
     controller = export(ctx, inputs, cfg.export_rate_hz)

@@ -263,8 +263,8 @@ def summarize(
             for k, f in (("mean", np.mean), ("std", np.std), ("min", np.min), ("max", np.max))
         }
 
-    def below(radius: float) -> float | None:
-        return round(float(np.mean(sampled.min_bend_radius < radius)), 4) if len(sampled) else None
+    def below(col: str, value: float) -> float | None:
+        return round(float(np.mean(sampled[col] < value)), 4) if len(sampled) else None
 
     baselines = {
         row.source.removeprefix("baseline:"): {
@@ -288,14 +288,12 @@ def summarize(
         "peak_pre_pressure": stats("peak_pre_pressure"),
         "peak_body_acc": stats("peak_body_acc"),
         # fractions of the sampled set bending the film below fc, and below the safety limit
-        "film_below_min_bend_radius": below(film.fc),
-        "film_below_limit": below(film.radius),
+        "film_below_min_bend_radius": below("min_bend_radius", film.fc),
+        "film_below_limit": below("min_bend_radius", film.radius),
         "film_limit": film.as_dict(),
         "min_bend_radius": stats("min_bend_radius"),
         # fraction of the sampled set whose pad never rose foot.swing_clearance above the wall
-        "pad_below_swing_clearance": (
-            round(float(np.mean(sampled.max_clearance < clearance)), 4) if len(sampled) else None
-        ),
+        "pad_below_swing_clearance": below("max_clearance", clearance),
         "max_clearance": stats("max_clearance"),
         "baselines": baselines,
     }

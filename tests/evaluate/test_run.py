@@ -5,6 +5,7 @@ from __future__ import annotations
 import pandas as pd
 import pytest
 
+from ftfof.config import Timing
 from ftfof.data.dataset import CHANNELS
 from ftfof.errors import SimulationError
 from ftfof.evaluate.run import (
@@ -87,7 +88,11 @@ def test_front_members_show_each_trade_and_the_film_verdict():
     sims["max_clearance"] = [0.03, 0.0015]
     sims["switch_time"] = [0.3, float("nan")]  # the second never let go
     out = front_members(
-        sims, (0.6, T3), 5.0, FilmLimit(fc=0.006, peel_root=0.002, fraction=0.75), clearance=0.009
+        sims,
+        Timing(T1=0.3, T2=0.6, T3=T3),
+        5.0,
+        FilmLimit(fc=0.006, peel_root=0.002, fraction=0.75),
+        clearance=0.009,
     )
     first, other = out["members"]
     assert first["optimum"] and first["row"] == 7 and first["film_safe"]

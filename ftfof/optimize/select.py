@@ -8,7 +8,7 @@ checked independently of the search.
 from __future__ import annotations
 
 import json
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -51,8 +51,8 @@ class Verdict:
     simulated: list[float] = field(default_factory=list)
 
 
-# Simulates a decision row and judges it; ``row`` is the front row, for the record.
-SimulatorCheck = Callable[[int, np.ndarray], Verdict]
+# Simulates decision rows ``X`` (one per front row in ``rows``, for the record) and judges each.
+SimulatorCheck = Callable[[Sequence[int], np.ndarray], list[Verdict]]
 
 
 def choose(
@@ -152,9 +152,9 @@ def verified_rhs(
     limit: int,
 ) -> tuple[int, RHSResult, np.ndarray, list[Verdict]]:
     """RHS on the predicted objectives ``F`` ranks ``limit`` candidates among ``rows`` (RHS's
-    choice, then its choice among the rest, ...); each is simulated, and RHS chooses again among
-    those the check passes, on their *simulated* objectives: the surrogates are off by more than
-    the differences RHS weighs near the front's best, the simulator is not.
+    choice, then its choice among the rest, ...); they are simulated together, and RHS chooses
+    again among those the check passes, on their *simulated* objectives: the surrogates are off
+    by more than the differences RHS weighs near the front's best, the simulator is not.
 
     Returns the chosen row, its RHS trace (over the returned rows), the rows it ran over and the
     verdicts in order. None passing is an OptimizationError naming the first refusals. ``limit``
@@ -164,11 +164,12 @@ def verified_rhs(
     if check is None or limit == 0:
         rhs = rhs_trace(F[rows], priority, cfg.rhs_alpha, cfg.rhs_beta)
         return int(rows[rhs.index]), rhs, rows, []
-    verdicts: list[Verdict] = []
-    while rows.size and len(verdicts) < limit:
+    ranked: list[int] = []
+    while rows.size and len(ranked) < limit:
         index = int(rows[rhs_trace(F[rows], priority, cfg.rhs_alpha, cfg.rhs_beta).index])
-        verdicts.append(check(index, X[index]))
+        ranked.append(index)
         rows = rows[rows != index]
+    verdicts = check(ranked, X[ranked])
     passed = [v for v in verdicts if v.ok]
     if not passed:
         refused = "; ".join(f"row {v.row}: {v.reason}" for v in verdicts[:3])

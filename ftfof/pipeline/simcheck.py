@@ -1,7 +1,9 @@
-"""The simulator's word on an RHS candidate: re-simulate it on the platform and refuse it when a
-real foot would not survive it, whatever the surrogates predicted (issue: film safety)."""
+"""The simulator's word on RHS candidates: re-simulate them on the platform and refuse those a
+real foot would not survive, whatever the surrogates predicted (issue: film safety)."""
 
 from __future__ import annotations
+
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -26,13 +28,15 @@ MEASURED = (
 
 
 def simulator_check(params: Params, ctx: RobotContext) -> SimulatorCheck:
-    """A check that simulates a decision row, with the robot's objectives from its simulated
+    """A check that simulates decision rows (in parallel on ``acquire.workers`` local processes),
+    each with the robot's objectives from its simulated
     forces (binned as the surrogate's targets), and passes it when the run succeeds, the pad lets go
     cleanly (:func:`ftfof.data.release.release_fault`: the switch trips, the whole pad rises
     ``foot.swing_clearance`` above the wall and stays off it until the landing) and the film's
     minimum bend radius stays at or above its safety limit (:class:`ftfof.sim.film.FilmLimit`)."""
     from ftfof.sim.film import film_limit
-    from ftfof.sim.simulate import simulate
+    from ftfof.sim.pool import run_local
+    from ftfof.sim.records import SampleResult
 
     on = bench(params, ctx)
     d = params.dataset
@@ -41,8 +45,12 @@ def simulator_check(params: Params, ctx: RobotContext) -> SimulatorCheck:
     clearance = ctx.robot.foot.swing_clearance
     landing_start = ctx.policy.timing.T2
 
-    def check(row: int, X: np.ndarray) -> Verdict:
-        result = simulate(on.bezier("verify", row, X))
+    def check(rows: Sequence[int], X: np.ndarray) -> list[Verdict]:
+        specs = [on.bezier("verify", row, x) for row, x in zip(rows, X, strict=True)]
+        done = {r.key: r for batch in run_local(specs, params.acquire.workers) for r in batch}
+        return [judge(row, x, done[s.key]) for row, x, s in zip(rows, X, specs, strict=True)]
+
+    def judge(row: int, X: np.ndarray, result: SampleResult) -> Verdict:
         measured = {k: float(result.scalars[k]) for k in MEASURED if k in result.scalars}
         if not result.ok:
             return Verdict(row, False, f"simulation failed: {result.error}", measured)

@@ -35,13 +35,18 @@ def test_rhs_chooses_among_the_passing_candidates_on_their_simulated_objectives(
     first, *_ = verified_rhs(F, X, np.arange(5), _cfg(), None, 5)
     second, *_ = verified_rhs(F, X, np.delete(np.arange(5), first), _cfg(), None, 5)
     simulated = {r: [0.5, 0.5] for r in range(5)}
-    simulated[4 if second != 4 else 3] = [0.05, 9.0]  # the simulator's best first objective
+    best = min(set(range(5)) - {first, second})  # neither of the surrogate's first two choices
+    simulated[best] = [0.05, 9.0]  # the simulator's best first objective
     seen = []
 
-    def check(row, x):
-        seen.append((row, tuple(x)))
-        ok = row != first
-        return Verdict(row, ok, "" if ok else "film bent", {}, simulated[row] if ok else [])
+    def check(rows, X_rows):
+        seen.extend((row, tuple(x)) for row, x in zip(rows, X_rows, strict=True))
+        return [
+            Verdict(row, False, "film bent", {})
+            if row == first
+            else Verdict(row, True, "", {}, simulated[row])
+            for row in rows
+        ]
 
     index, rhs, rows, verdicts = verified_rhs(F, X, np.arange(5), _cfg(), check, 5)
     # every candidate simulated, in RHS's order on the predictions; the refused one dropped
@@ -49,16 +54,16 @@ def test_rhs_chooses_among_the_passing_candidates_on_their_simulated_objectives(
     assert seen[0] == (first, tuple(X[first]))  # the check is given the row's own decision
     assert first not in rows and sorted(rows) == sorted(set(range(5)) - {first})
     # RHS on the simulated objectives: the simulator's best, not the surrogate's
-    assert index == (4 if second != 4 else 3) and int(rows[rhs.index]) == index
+    assert index == best and int(rows[rhs.index]) == index
 
 
 def test_the_limit_bounds_the_simulations():
     F, X = _front()
     calls = []
 
-    def check(row, x):
-        calls.append(row)
-        return Verdict(row, True, "", {}, list(F[row]))
+    def check(rows, X_rows):
+        calls.extend(rows)
+        return [Verdict(row, True, "", {}, list(F[row])) for row in rows]
 
     index, _, rows, _ = verified_rhs(F, X, np.arange(5), _cfg(), check, 2)
     assert len(calls) == 2 and index in calls and sorted(rows) == sorted(calls)
@@ -68,7 +73,7 @@ def test_no_check_or_a_zero_limit_trusts_the_surrogates():
     F, X = _front()
     first, *_ = verified_rhs(F, X, np.arange(5), _cfg(), None, 5)
 
-    def refuse(row, x):
+    def refuse(rows, X_rows):
         raise AssertionError("must not simulate")
 
     index, _, _, verdicts = verified_rhs(F, X, np.arange(5), _cfg(), refuse, 0)
@@ -79,8 +84,8 @@ def test_running_out_of_candidates_names_the_refusals():
     F, X = _front()
     first, *_ = verified_rhs(F, X, np.arange(5), _cfg(), None, 5)
 
-    def refuse(row, x):
-        return Verdict(row, False, f"film bent at row {row}", {})
+    def refuse(rows, X_rows):
+        return [Verdict(row, False, f"film bent at row {row}", {}) for row in rows]
 
     with pytest.raises(OptimizationError, match=rf"refused the first 2 RHS .*row {first}: film"):
         verified_rhs(F, X, np.arange(5), _cfg(), refuse, 2)

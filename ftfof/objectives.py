@@ -126,9 +126,10 @@ def jitter_exceedance(F: Array, dt: float, m: float = JITTER_SIGMAS) -> Array:
     return np.maximum(np.abs(z) - m, 0.0)
 
 
-def fs7_jitter(density: Array) -> Array:
-    """eq. 16: the sum of the exceedances, given per time bin (the ``jitter`` target)."""
-    return np.sum(density, axis=-1)
+def fs7_jitter(running: Array) -> Array:
+    """eq. 16: the sum of the exceedances, given as their running total over time (the
+    ``jitter`` target), so the total is its maximum."""
+    return np.max(running, axis=-1)
 
 
 def fsj_body_jitter(body_acc: Array) -> Array:

@@ -67,7 +67,7 @@ TITLES = {
     "pull": "pull |F| [N]",
     "Fd": "normal tension Fd [N]",
     "Fp": "landing pre-pressure Fp [N]",
-    "jitter": "fs7 exceedance density",
+    "jitter": "fs7 running exceedance sum",
     "body_acc": "body acceleration [m/s²]",
     "curvature": "film curvature [1/m]",
     "clearance": "pad clearance [m]",

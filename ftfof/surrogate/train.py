@@ -5,12 +5,12 @@ The criterion is a sum over the targets, each on the samples that supply it (NaN
 - ``mse``: the mean squared error of every target;
 - ``dilate``: DILATE on the force series (:data:`DILATE_TARGETS`, where the timing and shape of
   a peak are what fs1-fs3 read), divided by N so that it is a per-step error like the MSE of the
-  other targets (jitter density, body acceleration, film curvature: maxima and sums of sparse,
-  event-locked series, for which a shape-only, shift-tolerant loss has nothing to offer and a
-  soft-DTW of spikes is ill-posed). The force series share one alignment: DILATE runs on them as
-  one multivariate series (D[i, j] = the squared distance of the force vectors), since they are
-  the same foot's forces on one time line, and one alignment costs a third of three. A sample
-  that lacks one of them is left out of this term.
+  other targets (fs7's running total, body acceleration, film curvature: maxima and totals of
+  sparse, event-locked events, for which a shape-only, shift-tolerant loss has nothing to offer
+  and a soft-DTW of spikes is ill-posed). The force series share one alignment: DILATE runs on
+  them as one multivariate series (D[i, j] = the squared distance of the force vectors), since
+  they are the same foot's forces on one time line, and one alignment costs a third of three. A
+  sample that lacks one of them is left out of this term.
 
 Deterministic on CPU for a seed (seeded init and shuffling, deterministic algorithms, a fixed
 thread count); uses a GPU when one is present (the DILATE kernel itself runs on the CPU).

@@ -36,7 +36,7 @@ def test_pre_pressure_is_the_landing_not_the_held_initial_press():
     assert np.all(s["Fp"][targets.time_base(T3, HOLD, N) < SWITCH] == 0)
 
 
-def test_jitter_sums_to_eq16_on_the_detachment_window_at_the_full_rate():
+def test_jitter_runs_up_to_eq16_on_the_detachment_window_at_the_full_rate():
     ch = fake_channels(4.0)
     t = ch["t"]
     ch["Fz_pad"] = ch["Fz_pad"] + 0.3 * ((t > 0.05) & (t < 0.052))  # a step: a jerk in F''
@@ -45,8 +45,11 @@ def test_jitter_sums_to_eq16_on_the_detachment_window_at_the_full_rate():
     pull = np.hypot(ch["Fx_pad"], np.maximum(ch["Fz_pad"], 0))[window]
     expected = jitter_exceedance(pull, 1e-3, JITTER_SIGMAS).sum()
     assert expected > 1.0
-    assert s["jitter"].sum() == pytest.approx(expected, rel=1e-9)
-    assert np.all(s["jitter"][targets.time_base(T3, HOLD, N) > SWITCH + 0.03] == 0)
+    assert s["jitter"].max() == pytest.approx(expected, rel=1e-9)
+    assert np.all(np.diff(s["jitter"]) >= 0)  # a running total
+    assert s["jitter"][targets.time_base(T3, HOLD, N) < 0.04].max() == 0  # none before the jerk
+    after = s["jitter"][targets.time_base(T3, HOLD, N) > SWITCH + 0.03]
+    np.testing.assert_allclose(after, expected, rtol=1e-9)  # held after the window
 
 
 def test_a_coarse_record_supplies_no_jitter():

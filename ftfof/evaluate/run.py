@@ -16,6 +16,7 @@ import pandas as pd
 from ftfof.config import Params, Timing
 from ftfof.data import targets
 from ftfof.data.dataset import CHANNELS
+from ftfof.data.landing import landing_fault
 from ftfof.data.release import release_fault
 from ftfof.errors import SimulationError
 from ftfof.evaluate.export import ControllerTrajectory, ExportRateError, controller_trajectory
@@ -111,10 +112,11 @@ def front_members(
     pre_pressure: float,
     film: FilmLimit,
     clearance: float,
+    landing_tolerance: float | None = None,
 ) -> dict:
     """The re-simulated optimum and front members side by side: what each trades (pull, jitter,
-    landing press), whether its film survives and its pad lets go and clears the wall, so the
-    choice can be judged in simulation."""
+    landing press), whether its film survives, its pad lets go and clears the wall, and it lands
+    pressing within the robot's tolerance of a, so the choice can be judged in simulation."""
     sims = df[df.source.isin([OPTIMUM, "front"])]
     sims = sims.assign(first=sims.source != OPTIMUM).sort_values(["first", "sample_id"])
     members = []
@@ -128,6 +130,7 @@ def front_members(
             clearance,
             timing.T2,
         )
+        landed = landing_fault(f["landing_pre_pressure"], pre_pressure, landing_tolerance)
         members.append(
             {
                 "row": int(row.sample_id),
@@ -142,6 +145,8 @@ def front_members(
                 "max_clearance": round(float(row.max_clearance), 6),
                 "lets_go": not fault,
                 "release_fault": fault,
+                "lands": not landed,
+                "landing_fault": landed,
             }
         )
 
@@ -152,8 +157,10 @@ def front_members(
         "members": members,
         "film_safe_fraction": fraction("film_safe"),
         "lets_go_fraction": fraction("lets_go"),
+        "lands_fraction": fraction("lands"),
         "film_limit": film.as_dict(),
         "swing_clearance": clearance,
+        "landing_tolerance": landing_tolerance,
     }
 
 
@@ -331,8 +338,14 @@ def evaluate(
     T3 = ctx.policy.timing.T3
     rows = table_rows(table, cfg.reference, T3)
     film = film_limit(ctx.robot, params.selected_surface)
+    robot = ctx.robot
     front = front_members(
-        table, ctx.policy.timing, ctx.robot.pre_pressure, film, ctx.robot.foot.swing_clearance
+        table,
+        ctx.policy.timing,
+        robot.pre_pressure,
+        film,
+        robot.foot.swing_clearance,
+        robot.landing_tolerance,
     )
     fid, predicted, simulated = fidelity_of(inputs, table, ctx, surrogate)
     controller = export(ctx, inputs, cfg.export_rate_hz)

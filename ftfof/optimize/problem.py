@@ -27,7 +27,13 @@ from pymoo.core.problem import Problem
 from threadpoolctl import ThreadpoolController
 
 from ftfof.data.release import swing_gap
-from ftfof.objectives import Evidence, film_safety, pad_clearance, strategy_values
+from ftfof.objectives import (
+    Evidence,
+    film_safety,
+    fs3_pre_pressure_error,
+    pad_clearance,
+    strategy_values,
+)
 from ftfof.surrogate.predict import Surrogate
 from ftfof.trajectory.policy import Constraint, ConstraintPolicy, FeasibilityReport
 
@@ -40,18 +46,31 @@ class PhysicalLimits:
     g <= 0 where it holds. ``film_safety``: limit * max film curvature - 1. ``pad_clearance``,
     the clean release of :mod:`ftfof.data.release` on the predicted clearance: the larger of
     1 - max clearance / swing_clearance (the whole pad rises clear) and 1 - swing gap / detached
-    (once risen, it stays at least the switch's height off the wall until the landing)."""
+    (once risen, it stays at least the switch's height off the wall until the landing).
+    ``landing_press``, :mod:`ftfof.data.landing` on the predicted landing pre-pressure:
+    fs3 / (tolerance x a) - 1, where the robot has a landing tolerance."""
 
     film_radius: float  # m, ftfof.sim.film.FilmLimit.radius
     swing_clearance: float  # m, robot.foot.swing_clearance
     detached: float  # m, platform.protocol.switch_height: above it the pad counts as off
     landing_start: float  # s, T2
+    pre_pressure: float  # a, N
+    landing_tolerance: float | None = None  # robot.landing_tolerance (None: not constrained)
 
-    TARGETS: ClassVar[dict[str, str]] = {"film_safety": "curvature", "pad_clearance": "clearance"}
+    TARGETS: ClassVar[dict[str, str]] = {
+        "film_safety": "curvature",
+        "pad_clearance": "clearance",
+        "landing_press": "Fp",
+    }
 
     def constrained(self, trained: Sequence[str]) -> tuple[str, ...]:
-        """The limits whose channel the surrogate was trained on."""
-        return tuple(name for name, target in self.TARGETS.items() if target in trained)
+        """The limits whose channel the surrogate was trained on (and that the robot asks for)."""
+        asked = {"landing_press": self.landing_tolerance is not None}
+        return tuple(
+            name
+            for name, target in self.TARGETS.items()
+            if target in trained and asked.get(name, True)
+        )
 
     def violations(
         self, series: Mapping[str, Array], t: Array, names: Sequence[str]
@@ -60,12 +79,17 @@ class PhysicalLimits:
         rules = {
             "film_safety": lambda: film_safety(series["curvature"], self.film_radius),
             "pad_clearance": lambda: self._release(series["clearance"], t),
+            "landing_press": lambda: self._landing(series["Fp"]),
         }
         return {name: rules[name]() for name in names}
 
     def _release(self, clearance: Array, t: Array) -> Array:
         gap = swing_gap(clearance, t, self.swing_clearance, self.landing_start)
         return np.maximum(pad_clearance(clearance, self.swing_clearance), 1.0 - gap / self.detached)
+
+    def _landing(self, Fp: Array) -> Array:
+        allowed = float(self.landing_tolerance or np.inf) * self.pre_pressure
+        return fs3_pre_pressure_error(Fp, self.pre_pressure) / allowed - 1.0
 
 
 @dataclass(frozen=True)

@@ -103,9 +103,13 @@ def build_setup(
             robot.foot.swing_clearance,
             params.platform.protocol.switch_height,
             ctx.policy.timing.T2,
+            robot.pre_pressure,
+            robot.landing_tolerance,
         ),
     )
-    unseen = set(PhysicalLimits.TARGETS) - set(problem.physical)
+    unseen = set(problem.limits.constrained(PhysicalLimits.TARGETS.values())) - set(
+        problem.physical
+    )
     if unseen:
         console.print(
             f"[yellow]the surrogate was not trained on the channels of {sorted(unseen)} (an "

@@ -93,6 +93,7 @@ def test_front_members_show_each_trade_and_the_film_verdict():
         5.0,
         FilmLimit(fc=0.006, peel_root=0.002, fraction=0.75),
         clearance=0.009,
+        landing_tolerance=0.15,
     )
     first, other = out["members"]
     assert first["optimum"] and first["row"] == 7 and first["film_safe"]
@@ -101,6 +102,8 @@ def test_front_members_show_each_trade_and_the_film_verdict():
     assert out["film_safe_fraction"] == 0.5 and out["film_limit"]["limit"] == 0.0015
     assert first["lets_go"] and not other["lets_go"] and out["lets_go_fraction"] == 0.5
     assert other["release_fault"] == "the pad never let go"
+    assert first["lands"] and not other["lands"] and out["lands_fraction"] == 0.5  # 5.5 / 4.0 N
+    assert other["landing_fault"] == "the landing pressed 4.00 N, outside a = 5.00 N ± 15 %"
 
 
 def test_the_table_lists_the_reference_then_baselines_then_the_paper_optimum_then_ours():

@@ -18,7 +18,12 @@ def _problem(ctx, surrogate, objectives=None):
         robot.objectives if objectives is None else objectives,
         robot.pre_pressure,
         PhysicalLimits(
-            robot.foot.film_min_bend_radius, robot.foot.swing_clearance, 0.002, ctx.policy.timing.T2
+            robot.foot.film_min_bend_radius,
+            robot.foot.swing_clearance,
+            0.002,
+            ctx.policy.timing.T2,
+            robot.pre_pressure,
+            robot.landing_tolerance,
         ),
     )
 
@@ -54,16 +59,25 @@ def test_shapes_and_box(ctx, surrogate):
     np.testing.assert_allclose(
         clear, np.maximum(1 - predicted.max(1) / foot.swing_clearance, 1 - gap / 0.002)
     )
+    limits = [film, clear]
+    tolerance = ctx.robot.landing_tolerance
+    if tolerance is None:  # MST-Q presses past a by design: no landing limit
+        assert "landing_press" not in result.physical
+    else:
+        landing = np.abs(result.series["Fp"].max(1) - ctx.robot.pre_pressure)
+        expected = landing / (tolerance * ctx.robot.pre_pressure) - 1
+        np.testing.assert_allclose(result.physical["landing_press"], expected)
+        limits.append(expected)
     # the physical limits are the last columns, in PhysicalLimits' order
-    np.testing.assert_allclose(out["G"][:, -2:], np.column_stack([film, clear]))
+    np.testing.assert_allclose(out["G"][:, -len(limits) :], np.column_stack(limits))
 
 
-@pytest.mark.parametrize("dropped", ["curvature", "clearance"])
+@pytest.mark.parametrize("dropped", ["curvature", "clearance", "Fp"])
 def test_an_untrained_physical_target_is_no_constraint(m3f, surrogate, dropped):
     trained = tuple(n for n in surrogate.trained if n != dropped)
     untrained = dataclasses.replace(surrogate, trained=trained)
     problem = _problem(m3f, untrained)
-    assert problem.n_ieq_constr == len(problem.rules) + 1 and len(problem.physical) == 1
+    assert problem.n_ieq_constr == len(problem.rules) + 2 and len(problem.physical) == 2
     with pytest.raises(ValueError, match=dropped):
         untrained.predict(np.zeros((1, 32, 2)), np.zeros((1, 32, 2)), [dropped])
 

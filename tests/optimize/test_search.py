@@ -18,8 +18,12 @@ def problem(m3f, surrogate):
         surrogate,
         robot.objectives,
         robot.pre_pressure,
-        PhysicalLimits(
-            robot.foot.film_min_bend_radius, robot.foot.swing_clearance, 0.002, m3f.policy.timing.T2
+        PhysicalLimits(  # no landing tolerance: this surrogate is untrained
+            robot.foot.film_min_bend_radius,
+            robot.foot.swing_clearance,
+            0.002,
+            m3f.policy.timing.T2,
+            robot.pre_pressure,
         ),
     )
 

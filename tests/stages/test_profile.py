@@ -33,11 +33,10 @@ def test_tiny_profile_sets_its_values_and_keeps_everything_else(tmp_path):
     assert result.exit_code == 0, result.output
     after = yaml.safe_load(params.read_text())
     tiny = yaml.safe_load((profiles / "tiny.yaml").read_text())
-    for section, values in tiny.items():
-        for key, value in values.items():
-            assert after[section][key] == value
-            before[section][key] = value
-    assert after == before  # nothing else changed
+    _overlay(before, tiny)
+    assert after == before  # the profile's values (at any depth), nothing else changed
+    assert after["robots"]["mst_m3f"]["landing_tolerance"] is None
+    assert after["robots"]["mst_m3f"]["pre_pressure"] == 5.0
     text = params.read_text()
     assert "# FTFOF §VI.C" in text and "platform: &m3f_platform\n" in text  # comments, anchors
     assert "scheduler: null" in text and max(map(len, text.splitlines())) > 95  # no re-wrap
@@ -60,3 +59,11 @@ def test_bad_profile_is_named_and_leaves_params_untouched(tmp_path, profile, nam
     result = _apply(params, profiles, "bad")
     assert result.exit_code != 0 and named in result.output
     assert params.read_text() == original
+
+
+def _overlay(target: dict, overlay: dict) -> None:
+    for key, value in overlay.items():
+        if isinstance(value, dict):
+            _overlay(target[key], value)
+        else:
+            target[key] = value

@@ -232,6 +232,9 @@ class Robot(Strict):
     # priority order for the RHS choice
     objectives: Annotated[list[Objective], Field(min_length=2), AfterValidator(_distinct)]
     pre_pressure: PositiveFloat  # a, N (FTFOF eq. 12)
+    # the landing must press the pad to a within this fraction of a: the next stance's preload
+    # (a constraint of the search and a verdict of the simulator check); None: not required
+    landing_tolerance: Fraction | None = None
     platform: PlatformMechanics
     # The paper's published optimum (12 decision values, m), simulated in `evaluate` like a
     # baseline and never fitted; null where the robot has none usable here.
@@ -376,6 +379,11 @@ class Optimize(Strict):
     rhs_alpha: Fraction = 0.5  # Algorithm 1: initial fraction of each objective's range kept
     rhs_beta: Annotated[float, Field(gt=0, lt=1)] = 0.9  # Algorithm 1: shrink factor
     verify_candidates: NonNegativeInt = 16  # RHS candidates simulated, then chosen on; 0 = trust
+    # each candidate is also simulated this many times with every control value off by a normal
+    # error of ``verify_repeatability`` (m, the foot's position repeatability): it must pass
+    # every time, and RHS chooses on the mean, its differences within the standard error ties
+    verify_copies: NonNegativeInt = 2
+    verify_repeatability: PositiveFloat = 2e-4
 
 
 class RefineTarget(Strict):

@@ -24,6 +24,7 @@ Stream = Literal[
     "plots",  # which samples the figures show
     "bench",  # draws of the benchmarks under bench/
     "refine",  # the feasible draws that fill a refinement round's warm-started population
+    "verify",  # the perturbed copies of a simulator-checked candidate, one child per row
 ]
 STREAMS: tuple[Stream, ...] = get_args(Stream)
 

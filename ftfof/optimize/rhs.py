@@ -6,6 +6,10 @@ beta^k after the k-th visit. The row holding the minimum always survives, so the
 empty. A constant column keeps every row; when alpha underflows with several rows left (exact
 ties), the lexicographic minimum in priority order wins, then the lowest row index
 (FTFOF Algorithm 1, §V.C).
+
+An optional ``resolution`` per objective widens each cut to at least the minimum plus it:
+differences smaller than what the objective can be measured to (the simulator's repeatability)
+decide nothing, and the next priority does. Without it the algorithm is exactly the paper's.
 """
 
 from __future__ import annotations
@@ -49,10 +53,18 @@ class RHSResult:
 
 
 def rhs_trace(
-    F: ArrayLike, priority: Sequence[int], alpha: float = 0.9, beta: float = 0.9
+    F: ArrayLike,
+    priority: Sequence[int],
+    alpha: float = 0.9,
+    beta: float = 0.9,
+    resolution: ArrayLike | None = None,
 ) -> RHSResult:
-    """Algorithm 1 on the minimisation front ``F`` (rows = solutions), with its full trace."""
+    """Algorithm 1 on the minimisation front ``F`` (rows = solutions), with its full trace;
+    ``resolution`` (one value >= 0 per column of ``F``) makes smaller differences ties."""
     F = _validated(F, priority, alpha, beta)
+    ties = np.zeros(F.shape[1]) if resolution is None else np.asarray(resolution, dtype=float)
+    if ties.shape != (F.shape[1],) or not np.all(ties >= 0):
+        raise ValueError(f"resolution must be {F.shape[1]} values >= 0, got {ties.tolist()}")
     rows = np.arange(F.shape[0])
     steps: list[RHSStep] = []
     k = 0
@@ -60,7 +72,7 @@ def rhs_trace(
         i = int(priority[k % len(priority)])
         column = F[rows, i]
         low, high = float(column.min()), float(column.max())
-        cut = low + (high - low) * alpha
+        cut = max(low + (high - low) * alpha, low + ties[i])
         rows = rows[column <= cut]
         steps.append(RHSStep(i, low, high, cut, alpha, tuple(int(r) for r in rows)))
         alpha *= beta**k

@@ -47,8 +47,11 @@ class Verdict:
     ok: bool
     reason: str  # why it was refused ("" when ok)
     measured: dict[str, float]
-    # the robot's objectives from the simulated forces, in priority order (empty when it failed)
+    # the robot's objectives from the simulated forces, in priority order (empty when it failed):
+    # the mean over ``runs`` simulations (the row and its copies off by the foot's repeatability)
     simulated: list[float] = field(default_factory=list)
+    spread: list[float] = field(default_factory=list)  # their standard deviation over the runs
+    runs: int = 1
 
 
 # Simulates decision rows ``X`` (one per front row in ``rows``, for the record) and judges each.
@@ -154,7 +157,9 @@ def verified_rhs(
     """RHS on the predicted objectives ``F`` ranks ``limit`` candidates among ``rows`` (RHS's
     choice, then its choice among the rest, ...); they are simulated together, and RHS chooses
     again among those the check passes, on their *simulated* objectives: the surrogates are off
-    by more than the differences RHS weighs near the front's best, the simulator is not.
+    by more than the differences RHS weighs near the front's best, the simulator is not. Where
+    the check simulated each candidate several times, differences within the simulator's own
+    repeatability are ties (:func:`resolution`).
 
     Returns the chosen row, its RHS trace (over the returned rows), the rows it ran over and the
     verdicts in order. None passing is an OptimizationError naming the first refusals. ``limit``
@@ -179,8 +184,18 @@ def verified_rhs(
             "raise optimize.verify_candidates or retrain the surrogates where they fail",
         )
     simulated = np.array([v.simulated for v in passed])
-    rhs = rhs_trace(simulated, priority, cfg.rhs_alpha, cfg.rhs_beta)
+    rhs = rhs_trace(simulated, priority, cfg.rhs_alpha, cfg.rhs_beta, resolution(passed))
     return passed[rhs.index].row, rhs, np.array([v.row for v in passed]), verdicts
+
+
+def resolution(passed: Sequence[Verdict]) -> np.ndarray | None:
+    """Per objective, the standard error of the difference of two candidates' simulated means
+    (the median spread over the candidates, sqrt(2 / runs) of it): closer means are ties for
+    RHS. None when the candidates were simulated once each (no spread to go by)."""
+    if not passed or any(not v.spread for v in passed):
+        return None
+    spread = np.median([v.spread for v in passed], axis=0)
+    return spread * np.sqrt(2.0 / min(v.runs for v in passed))
 
 
 def front_table(outcome: Outcome, ctx: RobotContext, models_digest: str) -> pa.Table:

@@ -9,11 +9,13 @@ import numpy as np
 
 from ftfof.config import Params
 from ftfof.data import targets
+from ftfof.data.landing import landing_fault
 from ftfof.data.release import release_fault
 from ftfof.evaluate.fidelity import simulated_objectives
 from ftfof.optimize.select import SimulatorCheck, Verdict
 from ftfof.pipeline.bench import bench
 from ftfof.robot import RobotContext
+from ftfof.seeds import seed_for
 
 MEASURED = (
     "min_bend_radius",
@@ -29,11 +31,14 @@ MEASURED = (
 
 def simulator_check(params: Params, ctx: RobotContext) -> SimulatorCheck:
     """A check that simulates decision rows (in parallel on ``acquire.workers`` local processes),
-    each with the robot's objectives from its simulated
-    forces (binned as the surrogate's targets), and passes it when the run succeeds, the pad lets go
+    each as it is and ``optimize.verify_copies`` times with every control value off by the foot's
+    position repeatability, with the robot's objectives (the mean over those runs) from the
+    simulated forces (binned as the surrogate's targets). A row passes when every run of it
+    passes: the run succeeds, the pad lets go
     cleanly (:func:`ftfof.data.release.release_fault`: the switch trips, the whole pad rises
-    ``foot.swing_clearance`` above the wall and stays off it until the landing) and the film's
-    minimum bend radius stays at or above its safety limit (:class:`ftfof.sim.film.FilmLimit`)."""
+    ``foot.swing_clearance`` above the wall and stays off it until the landing), the film's
+    minimum bend radius stays at or above its safety limit (:class:`ftfof.sim.film.FilmLimit`)
+    and the landing presses within the robot's tolerance of a (:mod:`ftfof.data.landing`)."""
     from ftfof.sim.film import film_limit
     from ftfof.sim.pool import run_local
     from ftfof.sim.records import SampleResult
@@ -45,10 +50,43 @@ def simulator_check(params: Params, ctx: RobotContext) -> SimulatorCheck:
     clearance = ctx.robot.foot.swing_clearance
     landing_start = ctx.policy.timing.T2
 
+    cfg = params.optimize
+    off_mm = 1e3 * cfg.verify_repeatability
+
+    def runs_of(row: int, X: np.ndarray) -> list[np.ndarray]:
+        """The row's decision values, then its copies off by the foot's repeatability."""
+        rng = np.random.default_rng(seed_for(params.base.seed, "verify", row))
+        errors = rng.normal(0.0, cfg.verify_repeatability, (cfg.verify_copies, X.size))
+        return [X, *(X + e for e in errors)]
+
     def check(rows: Sequence[int], X: np.ndarray) -> list[Verdict]:
-        specs = [on.bezier("verify", row, x) for row, x in zip(rows, X, strict=True)]
-        done = {r.key: r for batch in run_local(specs, params.acquire.workers) for r in batch}
-        return [judge(row, x, done[s.key]) for row, x, s in zip(rows, X, specs, strict=True)]
+        runs = {row: runs_of(row, x) for row, x in zip(rows, X, strict=True)}
+        specs = {
+            (row, k): on.bezier(f"verify{k}", row, x)
+            for row, xs in runs.items()
+            for k, x in enumerate(xs)
+        }
+        batches = run_local(list(specs.values()), params.acquire.workers)
+        done = {r.key: r for batch in batches for r in batch}
+        return [
+            combine(row, [judge(row, x, done[specs[row, k].key]) for k, x in enumerate(xs)])
+            for row, xs in runs.items()
+        ]
+
+    def combine(row: int, verdicts: list[Verdict]) -> Verdict:
+        """The row passes when every run passes; its objectives are their mean."""
+        nominal, *copies = verdicts
+        if not nominal.ok:
+            return nominal
+        for k, copy in enumerate(copies, start=1):
+            if not copy.ok:
+                reason = f"with its path {off_mm:.1f} mm off (copy {k}): {copy.reason}"
+                return Verdict(row, False, reason, nominal.measured)
+        values = np.array([v.simulated for v in verdicts])
+        spread = values.std(axis=0, ddof=1).tolist() if copies else []
+        return Verdict(
+            row, True, "", nominal.measured, values.mean(axis=0).tolist(), spread, len(verdicts)
+        )
 
     def judge(row: int, X: np.ndarray, result: SampleResult) -> Verdict:
         measured = {k: float(result.scalars[k]) for k in MEASURED if k in result.scalars}
@@ -74,6 +112,11 @@ def simulator_check(params: Params, ctx: RobotContext) -> SimulatorCheck:
                 f"film bent to {1e3 * bend:.2f} mm, below its {1e3 * limit:.2f} mm limit",
                 measured,
             )
+        landed = landing_fault(
+            measured["landing_pre_pressure"], ctx.robot.pre_pressure, ctx.robot.landing_tolerance
+        )
+        if landed:
+            return Verdict(row, False, landed, measured)
         objectives = simulated_objectives(
             ctx.robot.objectives, ctx.policy, X, [c], force_t, d.hold, ctx.robot.pre_pressure
         )[0]

@@ -51,6 +51,27 @@ def test_exact_ties_fall_back_to_lexicographic_then_lowest_row():
     assert result.tie_break and result.index == 1
 
 
+def test_a_difference_within_the_resolution_is_a_tie_and_the_next_priority_decides():
+    F = np.array([[1.00, 9.0], [1.03, 2.0]])
+    assert rhs_trace(F, [0, 1], alpha=0.5).index == 0  # Algorithm 1: 0.03 decides
+    result = rhs_trace(F, [0, 1], alpha=0.5, resolution=[0.05, 0.0])
+    assert result.index == 1  # 1.00 and 1.03 are one value; the second objective chooses
+    assert result.steps[0].cut == pytest.approx(1.05) and result.steps[0].remaining == (0, 1)
+    assert rhs_trace(F, [0, 1], alpha=0.5, resolution=[0.0, 0.0]).index == 0  # 0: the paper's
+
+
+def test_a_resolution_wider_than_every_range_ends_in_the_lexicographic_rule():
+    F = np.array([[1.0, 2.0], [1.1, 1.0]])
+    result = rhs_trace(F, [0, 1], resolution=[1.0, 5.0])
+    assert result.tie_break and result.index == 0
+
+
+@pytest.mark.parametrize("resolution", [[0.1], [0.1, -0.1]])
+def test_a_malformed_resolution_is_named(resolution):
+    with pytest.raises(ValueError, match="resolution must be 2 values >= 0"):
+        rhs_trace(np.ones((3, 2)), [0, 1], resolution=resolution)
+
+
 def test_constant_front_keeps_every_row_and_picks_the_first():
     result = rhs_trace(np.ones((4, 3)), [0, 1, 2])
     assert result.index == 0 and result.tie_break

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from ftfof.errors import OptimizationError
-from ftfof.optimize.select import Verdict, convergence_csv, verified_rhs
+from ftfof.optimize.select import Verdict, convergence_csv, resolution, verified_rhs
 
 
 def test_convergence_csv_has_one_line_per_record():
@@ -91,3 +91,28 @@ def test_running_out_of_candidates_names_the_refusals():
         verified_rhs(F, X, np.arange(5), _cfg(), refuse, 2)
     with pytest.raises(OptimizationError, match="refused the first 5"):
         verified_rhs(F, X, np.arange(5), _cfg(), refuse, 10)
+
+
+def test_candidates_simulated_several_times_tie_within_their_repeatability():
+    F, X = _front()
+    # the simulator's means of the two that pass: 0.02 apart in the first objective, less than
+    # a 0.1 spread over three runs can tell apart; row 1 is far better on the second
+    means = {0: [1.00, 9.0], 1: [1.02, 1.0]}
+
+    def check(rows, X_rows, spread):
+        return [
+            Verdict(r, True, "", {}, means[r], spread, 3)
+            if r in means
+            else Verdict(r, False, "x", {})
+            for r in rows
+        ]
+
+    repeated = verified_rhs(F, X, np.arange(5), _cfg(), lambda r, x: check(r, x, [0.1, 0.1]), 5)
+    once = verified_rhs(F, X, np.arange(5), _cfg(), lambda r, x: check(r, x, []), 5)
+    assert repeated[0] == 1 and once[0] == 0
+
+
+def test_the_resolution_is_the_standard_error_of_a_difference_of_means():
+    passed = [Verdict(r, True, "", {}, [1.0, 2.0], [s, 2 * s], 3) for r, s in enumerate([1, 2, 3])]
+    np.testing.assert_allclose(resolution(passed), [2.0 * np.sqrt(2 / 3), 4.0 * np.sqrt(2 / 3)])
+    assert resolution([Verdict(0, True, "", {}, [1.0], [], 1)]) is None

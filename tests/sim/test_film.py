@@ -135,3 +135,7 @@ def test_the_simulator_check_refuses_a_swing_that_drags_its_pad_and_passes_pf(pa
     assert not dragged.ok and dragged.reason.startswith("the pad never let go"), dragged.reason
     assert published.ok, published.reason
     assert published.measured["max_clearance"] >= m3f.robot.foot.swing_clearance
+    # Pf as published and twice off by the foot's repeatability: the mean and the spread of each
+    assert published.runs == 1 + params.optimize.verify_copies == 3
+    assert len(published.simulated) == len(published.spread) == len(m3f.robot.objectives)
+    assert 0 < published.spread[0] < 0.05 * published.simulated[0]  # the pull repeats to < 5 %

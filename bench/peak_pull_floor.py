@@ -10,7 +10,7 @@ polynomial baseline and the paper's optimum Pf:
 3. the polynomial's peak when the same path runs 2, 4 and 8 times slower (every T scaled), the
    only way left to open the heel more slowly.
 
-Run: python bench/peak_pull_floor.py   (about 30 s on one core)
+Run: python bench/peak_pull_floor.py   (about 10 s on one core)
 """
 
 from __future__ import annotations

@@ -33,15 +33,26 @@ def tune_allocator(mmap_threshold: int = 64 << 20, trim_threshold: int = 256 << 
 # Numerical code paths pinned for every pipeline process, so that a model trained on one x86-64
 # machine is bit-identical to one trained on another. MKL otherwise picks its kernels by the host's
 # instruction set (AVX-512 and AVX2 give different GRU weights), and numba compiles for the host
-# CPU (FMA contraction and vector width follow it). AVX2 with FMA (Haswell, x86-64-v3) is the
-# level every x86-64 machine in use has.
-PINNED_X86_64 = {"MKL_CBWR": "AVX2", "NUMBA_CPU_NAME": "haswell", "NUMBA_CPU_FEATURES": ""}
+# CPU (FMA contraction and vector width follow it). NumPy dispatches its ufuncs by the host too:
+# its AVX-512 paths (numpy 2.4's X86_V4, AVX512_ICL, AVX512_SPR groups) change the last bits of
+# the bond law's arithmetic, and a peel's bond-by-bond snaps carry those bits into different
+# forces (the whole acquisition differed between an AVX-512 and an AVX2 machine); OpenBLAS picks
+# its kernels by the host as well. AVX2 with FMA (Haswell, x86-64-v3) is the level every x86-64
+# machine in use has.
+PINNED_X86_64 = {
+    "MKL_CBWR": "AVX2",
+    "NUMBA_CPU_NAME": "haswell",
+    "NUMBA_CPU_FEATURES": "",
+    "NPY_DISABLE_CPU_FEATURES": "X86_V4 AVX512_ICL AVX512_SPR",
+    "OPENBLAS_CORETYPE": "Haswell",
+}
 
 
 def pin_numerics(environ: MutableMapping[str, str] = os.environ) -> dict[str, str]:
     """Set :data:`PINNED_X86_64` in ``environ`` (x86-64 only); returns what was set.
 
-    Must run before torch or numba is imported: both read these variables once, at load time.
+    Must run before numpy, torch or numba is imported: each reads these variables once, at load
+    time (``stages`` imports nothing else first).
     Other architectures keep their native paths (their numbers may differ from x86-64's).
     """
     if platform.machine().lower() not in {"x86_64", "amd64"}:

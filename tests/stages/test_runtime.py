@@ -14,7 +14,13 @@ def test_pinning_overrides_the_callers_choice_on_x86_64(monkeypatch):
     monkeypatch.setattr(runtime.platform, "machine", lambda: "x86_64")
     env = {"MKL_CBWR": "AVX512", "NUMBA_CPU_NAME": "skylake-avx512"}
     assert runtime.pin_numerics(env) == runtime.PINNED_X86_64
-    assert env == {"MKL_CBWR": "AVX2", "NUMBA_CPU_NAME": "haswell", "NUMBA_CPU_FEATURES": ""}
+    assert env == {
+        "MKL_CBWR": "AVX2",
+        "NUMBA_CPU_NAME": "haswell",
+        "NUMBA_CPU_FEATURES": "",
+        "NPY_DISABLE_CPU_FEATURES": "X86_V4 AVX512_ICL AVX512_SPR",
+        "OPENBLAS_CORETYPE": "Haswell",
+    }
 
 
 def test_other_architectures_keep_their_native_paths(monkeypatch):
@@ -28,10 +34,12 @@ def test_a_stage_process_compiles_for_the_pinned_target_whatever_the_host_says()
     env = {**os.environ, "MKL_CBWR": "AVX512", "NUMBA_CPU_NAME": "skylake-avx512"}
     code = (
         "import stages.cli, os; from numba.core import config; "
-        "print(os.environ['MKL_CBWR'], config.CPU_NAME, repr(config.CPU_FEATURES))"
+        "from numpy._core._multiarray_umath import __cpu_features__ as numpy_uses; "
+        "print(os.environ['MKL_CBWR'], config.CPU_NAME, repr(config.CPU_FEATURES), "
+        "any(numpy_uses.get(f, False) for f in ('X86_V4', 'AVX512_ICL', 'AVX512_SPR')))"
     )
     out = subprocess.run(
         [sys.executable, "-c", code], cwd=ROOT, env=env, capture_output=True, text=True, check=True
     )
     if runtime.platform.machine().lower() in {"x86_64", "amd64"}:
-        assert out.stdout.split() == ["AVX2", "haswell", "''"]
+        assert out.stdout.split() == ["AVX2", "haswell", "''", "False"]  # numpy: no AVX-512

@@ -16,7 +16,7 @@ gives on the binned series, so a predicted and a simulated objective measure the
   derivative of the pull, held after the window; bin maximum -> fs7 = max (the total). The
   simulated fs7 is exactly eq. 16 at the acquisition rate (<= 2 ms), and the surrogate predicts a
   smooth, monotone running total instead of a second derivative of a coarse series or the sparse
-  spikes of its density (which it ranked at Spearman 0.5 on the front: docs/objectives.md).
+  spikes of its density (which it ranked at Spearman 0.5-0.6 on the front).
 - ``body_acc``: the body acceleration on lift-off (first bond break) -> complete detachment +
   50 ms, bin maximum -> fsj = max (the IMU jitter of FTFOF Table I, during detachment).
 - ``curvature``: the film's free-span curvature (t >= 0), bin maximum -> film safety
@@ -119,7 +119,8 @@ def lift_off_time(t: Array, bonds: Array) -> float:
 
 
 def full_rate(channels: Mapping[str, Array], T3: float) -> dict[str, Array]:
-    """Every target at the acquisition rate, 0 outside its window, all NaN if not supplied."""
+    """Every target at the acquisition rate, 0 outside its window (``jitter``, a running total,
+    holds its total after it), all NaN if not supplied."""
     t = np.asarray(channels["t"], dtype=float)
     nan = np.full_like(t, np.nan)
     fx = np.asarray(channels["Fx_pad"], dtype=float)

@@ -16,7 +16,7 @@ import pandas as pd
 from ftfof.config import Params, Timing
 from ftfof.data import targets
 from ftfof.data.dataset import CHANNELS
-from ftfof.data.landing import landing_fault
+from ftfof.data.landing import held_press, landing_fault
 from ftfof.data.release import release_fault
 from ftfof.errors import SimulationError
 from ftfof.evaluate.export import ControllerTrajectory, ExportRateError, controller_trajectory
@@ -113,6 +113,7 @@ def front_members(
     film: FilmLimit,
     clearance: float,
     landing_tolerance: float | None = None,
+    landing_hold: float = 0.25,
 ) -> dict:
     """The re-simulated optimum and front members side by side: what each trades (pull, jitter,
     landing press), whether its film survives, its pad lets go and clears the wall, and it lands
@@ -130,7 +131,8 @@ def front_members(
             clearance,
             timing.T2,
         )
-        landed = landing_fault(f["landing_pre_pressure"], pre_pressure, landing_tolerance)
+        held = held_press(np.asarray(row.t, float), np.asarray(row.Fp, float), landing_hold)
+        landed = landing_fault(f["landing_pre_pressure"], held, pre_pressure, landing_tolerance)
         members.append(
             {
                 "row": int(row.sample_id),
@@ -346,6 +348,7 @@ def evaluate(
         film,
         robot.foot.swing_clearance,
         robot.landing_tolerance,
+        params.platform.protocol.landing_hold,
     )
     fid, predicted, simulated = fidelity_of(inputs, table, ctx, surrogate)
     controller = export(ctx, inputs, cfg.export_rate_hz)

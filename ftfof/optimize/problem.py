@@ -88,7 +88,8 @@ class PhysicalLimits:
         return np.maximum(pad_clearance(clearance, self.swing_clearance), 1.0 - gap / self.detached)
 
     def _landing(self, Fp: Array) -> Array:
-        allowed = float(self.landing_tolerance or np.inf) * self.pre_pressure
+        assert self.landing_tolerance is not None  # constrained() asks for it only then
+        allowed = self.landing_tolerance * self.pre_pressure
         return fs3_pre_pressure_error(Fp, self.pre_pressure) / allowed - 1.0
 
 

@@ -3,13 +3,15 @@
 Objectives are visited in priority order, cyclically; each visit keeps the rows within a shrinking
 fraction alpha of that objective's remaining range above its minimum, and alpha shrinks by
 beta^k after the k-th visit. The row holding the minimum always survives, so the set is never
-empty. A constant column keeps every row; when alpha underflows with several rows left (exact
-ties), the lexicographic minimum in priority order wins, then the lowest row index
+empty. A constant column keeps every row; when alpha underflows with several rows left (ties),
+the lexicographic minimum in priority order wins, then the lowest row index
 (FTFOF Algorithm 1, §V.C).
 
 An optional ``resolution`` per objective widens each cut to at least the minimum plus it:
 differences smaller than what the objective can be measured to (the simulator's repeatability)
-decide nothing, and the next priority does. Without it the algorithm is exactly the paper's.
+do not cut, and the next priority does. Rows still left when alpha underflows (within the
+resolution on every objective) go to the lexicographic rule on their values, as exact ties do.
+Without it the algorithm is exactly the paper's.
 """
 
 from __future__ import annotations
@@ -50,6 +52,7 @@ class RHSResult:
     index: int
     steps: tuple[RHSStep, ...]
     tie_break: bool  # True when the loop ended with several rows and the lexicographic rule chose
+    resolution: tuple[float, ...] = ()  # per objective, as given (empty: none)
 
 
 def rhs_trace(
@@ -83,7 +86,8 @@ def rhs_trace(
     if tie_break:
         keys = [F[rows, int(i)] for i in reversed(priority)]  # lexsort: last key is primary
         rows = rows[np.lexsort([rows, *keys])]
-    return RHSResult(int(rows[0]), tuple(steps), tie_break)
+    given = () if resolution is None else tuple(float(r) for r in ties)
+    return RHSResult(int(rows[0]), tuple(steps), tie_break, given)
 
 
 def rhs_select(F: ArrayLike, priority: Sequence[int], alpha: float = 0.9, beta: float = 0.9) -> int:

@@ -70,8 +70,9 @@ def choose(
 
     With ``check``, the surrogate proposes and the simulator disposes (:func:`verified_rhs`):
     the first ``optimize.verify_candidates`` RHS candidates are re-simulated, those the simulator
-    refuses (the film bent below its limit, a pad that does not let go cleanly, a failed run) are
-    dropped, and RHS chooses among the rest on their simulated objectives.
+    refuses (in any of its runs: the film bent below its limit, a pad that does not let go
+    cleanly, a landing outside the robot's tolerance, a failed run) are dropped, and RHS chooses
+    among the rest on their simulated objectives (the mean over the runs).
     """
     cfg = params.optimize
     policy = ctx.policy
@@ -189,13 +190,14 @@ def verified_rhs(
 
 
 def resolution(passed: Sequence[Verdict]) -> np.ndarray | None:
-    """Per objective, the standard error of the difference of two candidates' simulated means
-    (the median spread over the candidates, sqrt(2 / runs) of it): closer means are ties for
-    RHS. None when the candidates were simulated once each (no spread to go by)."""
+    """Per objective, the standard error of the difference of two candidates' simulated means:
+    the pooled spread (root mean square over the candidates: each spread comes from a few runs,
+    and their median would understate it) times sqrt(2 / runs). Closer means are ties for RHS.
+    None when the candidates were simulated once each (no spread to go by)."""
     if not passed or any(not v.spread for v in passed):
         return None
-    spread = np.median([v.spread for v in passed], axis=0)
-    return spread * np.sqrt(2.0 / min(v.runs for v in passed))
+    pooled = np.sqrt(np.mean(np.square([v.spread for v in passed]), axis=0))
+    return pooled * np.sqrt(2.0 / min(v.runs for v in passed))
 
 
 def front_table(outcome: Outcome, ctx: RobotContext, models_digest: str) -> pa.Table:
@@ -222,7 +224,7 @@ def front_table(outcome: Outcome, ctx: RobotContext, models_digest: str) -> pa.T
         "units": "decision variables in m; objectives in N (fs1-fs3), m (fs4, fs5), "
         "dimensionless (fs7), m/s^2 (fsj); g: columns are violations in the rule's units "
         "(film_safety: limit * max curvature - 1; pad_clearance: 1 - max clearance / required; "
-        "both predicted), > 0 violated",
+        "landing_press: |max landing Fp - a| / (tolerance * a) - 1; all predicted), > 0 violated",
         "models_digest": models_digest,
     }
     table = pa.table(columns)
@@ -257,6 +259,9 @@ def optimum_record(
         "rhs": {
             "alpha": cfg.rhs_alpha,
             "beta": cfg.rhs_beta,
+            "resolution": dict(zip(names, outcome.rhs.resolution, strict=True))
+            if outcome.rhs.resolution
+            else None,
             "among_rows": len(rows),
             "steps": [step(s) for s in outcome.rhs.steps],
             "tie_break": outcome.rhs.tie_break,

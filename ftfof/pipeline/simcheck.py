@@ -9,7 +9,7 @@ import numpy as np
 
 from ftfof.config import Params
 from ftfof.data import targets
-from ftfof.data.landing import landing_fault
+from ftfof.data.landing import held_press, landing_fault
 from ftfof.data.release import release_fault
 from ftfof.evaluate.fidelity import simulated_objectives
 from ftfof.optimize.select import SimulatorCheck, Verdict
@@ -31,10 +31,10 @@ MEASURED = (
 
 def simulator_check(params: Params, ctx: RobotContext) -> SimulatorCheck:
     """A check that simulates decision rows (in parallel on ``acquire.workers`` local processes),
-    each as it is and ``optimize.verify_copies`` times with every control value off by the foot's
-    position repeatability, with the robot's objectives (the mean over those runs) from the
-    simulated forces (binned as the surrogate's targets). A row passes when every run of it
-    passes: the run succeeds, the pad lets go
+    each as it is and ``optimize.verify_copies`` times with every free control value off by a
+    normal error of ``optimize.verify_repeatability``, with the robot's objectives (the mean over
+    those runs) from the simulated forces (binned as the surrogate's targets). A row passes when
+    every run of it passes: the run succeeds, the pad lets go
     cleanly (:func:`ftfof.data.release.release_fault`: the switch trips, the whole pad rises
     ``foot.swing_clearance`` above the wall and stays off it until the landing), the film's
     minimum bend radius stays at or above its safety limit (:class:`ftfof.sim.film.FilmLimit`)
@@ -52,14 +52,20 @@ def simulator_check(params: Params, ctx: RobotContext) -> SimulatorCheck:
 
     cfg = params.optimize
     off_mm = 1e3 * cfg.verify_repeatability
+    policy = ctx.policy
 
     def runs_of(row: int, X: np.ndarray) -> list[np.ndarray]:
-        """The row's decision values, then its copies off by the foot's repeatability."""
-        rng = np.random.default_rng(seed_for(params.base.seed, "verify", row))
-        errors = rng.normal(0.0, cfg.verify_repeatability, (cfg.verify_copies, X.size))
-        return [X, *(X + e for e in errors)]
+        """The row's decision values, then its copies: every free control value off by a normal
+        error of ``verify_repeatability``, kept in the box (fixed and tied values stay so)."""
+        rng = np.random.default_rng(seed_for(params.search_seed, "verify", row))
+        free = policy.contract(X)[0]
+        errors = rng.normal(0.0, cfg.verify_repeatability, (cfg.verify_copies, free.size))
+        copies = policy.expand(np.clip(free + errors, policy.lower, policy.upper))
+        return [X, *copies]
 
     def check(rows: Sequence[int], X: np.ndarray) -> list[Verdict]:
+        if len(set(rows)) != len(rows):
+            raise ValueError(f"the simulator check takes each row once (got {list(rows)})")
         runs = {row: runs_of(row, x) for row, x in zip(rows, X, strict=True)}
         specs = {
             (row, k): on.bezier(f"verify{k}", row, x)
@@ -80,7 +86,10 @@ def simulator_check(params: Params, ctx: RobotContext) -> SimulatorCheck:
             return nominal
         for k, copy in enumerate(copies, start=1):
             if not copy.ok:
-                reason = f"with its path {off_mm:.1f} mm off (copy {k}): {copy.reason}"
+                reason = (
+                    f"with its control values off by N(0, {off_mm:.1f} mm) (copy {k}): "
+                    f"{copy.reason}"
+                )
                 return Verdict(row, False, reason, nominal.measured)
         values = np.array([v.simulated for v in verdicts])
         spread = values.std(axis=0, ddof=1).tolist() if copies else []
@@ -112,8 +121,14 @@ def simulator_check(params: Params, ctx: RobotContext) -> SimulatorCheck:
                 f"film bent to {1e3 * bend:.2f} mm, below its {1e3 * limit:.2f} mm limit",
                 measured,
             )
+        measured["landing_held_pressure"] = held_press(
+            c["t"], c["Fp"], params.platform.protocol.landing_hold
+        )
         landed = landing_fault(
-            measured["landing_pre_pressure"], ctx.robot.pre_pressure, ctx.robot.landing_tolerance
+            measured["landing_pre_pressure"],
+            measured["landing_held_pressure"],
+            ctx.robot.pre_pressure,
+            ctx.robot.landing_tolerance,
         )
         if landed:
             return Verdict(row, False, landed, measured)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pandas as pd
 import pytest
 
@@ -87,6 +88,7 @@ def test_front_members_show_each_trade_and_the_film_verdict():
     sims["landing_pre_pressure"] = [5.5, 4.0]
     sims["max_clearance"] = [0.03, 0.0015]
     sims["switch_time"] = [0.3, float("nan")]  # the second never let go
+    sims["Fp"] = [np.where(t > 1.0, 5.2, 0.0) for t in sims["t"]]  # the first holds 5.2 N
     out = front_members(
         sims,
         Timing(T1=0.3, T2=0.6, T3=T3),
@@ -94,6 +96,7 @@ def test_front_members_show_each_trade_and_the_film_verdict():
         FilmLimit(fc=0.006, peel_root=0.002, fraction=0.75),
         clearance=0.009,
         landing_tolerance=0.15,
+        landing_hold=0.25,
     )
     first, other = out["members"]
     assert first["optimum"] and first["row"] == 7 and first["film_safe"]

@@ -114,5 +114,6 @@ def test_candidates_simulated_several_times_tie_within_their_repeatability():
 
 def test_the_resolution_is_the_standard_error_of_a_difference_of_means():
     passed = [Verdict(r, True, "", {}, [1.0, 2.0], [s, 2 * s], 3) for r, s in enumerate([1, 2, 3])]
-    np.testing.assert_allclose(resolution(passed), [2.0 * np.sqrt(2 / 3), 4.0 * np.sqrt(2 / 3)])
+    pooled = np.sqrt((1 + 4 + 9) / 3)  # root mean square: a median (2) would understate it
+    np.testing.assert_allclose(resolution(passed), np.array([1, 2]) * pooled * np.sqrt(2 / 3))
     assert resolution([Verdict(0, True, "", {}, [1.0], [], 1)]) is None

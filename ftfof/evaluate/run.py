@@ -112,8 +112,8 @@ def front_members(
     pre_pressure: float,
     film: FilmLimit,
     clearance: float,
-    landing_tolerance: float | None = None,
-    landing_hold: float = 0.25,
+    landing_tolerance: float | None,
+    landing_hold: float,
 ) -> dict:
     """The re-simulated optimum and front members side by side: what each trades (pull, jitter,
     landing press), whether its film survives, its pad lets go and clears the wall, and it lands

@@ -63,14 +63,15 @@ class PhysicalLimits:
         "landing_press": "Fp",
     }
 
-    def constrained(self, trained: Sequence[str]) -> tuple[str, ...]:
-        """The limits whose channel the surrogate was trained on (and that the robot asks for)."""
-        asked = {"landing_press": self.landing_tolerance is not None}
+    def asked(self) -> tuple[str, ...]:
+        """The limits the robot asks for: the landing press only where it sets a tolerance."""
         return tuple(
-            name
-            for name, target in self.TARGETS.items()
-            if target in trained and asked.get(name, True)
+            name for name in self.TARGETS if name != "landing_press" or self.landing_tolerance
         )
+
+    def constrained(self, trained: Sequence[str]) -> tuple[str, ...]:
+        """The limits asked for whose channel the surrogate was trained on."""
+        return tuple(name for name in self.asked() if self.TARGETS[name] in trained)
 
     def violations(
         self, series: Mapping[str, Array], t: Array, names: Sequence[str]

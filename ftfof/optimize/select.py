@@ -48,7 +48,7 @@ class Verdict:
     reason: str  # why it was refused ("" when ok)
     measured: dict[str, float]
     # the robot's objectives from the simulated forces, in priority order (empty when it failed):
-    # the mean over ``runs`` simulations (the row and its copies off by the foot's repeatability)
+    # the mean over ``runs`` simulations (the row and its copies with perturbed control values)
     simulated: list[float] = field(default_factory=list)
     spread: list[float] = field(default_factory=list)  # their standard deviation over the runs
     runs: int = 1

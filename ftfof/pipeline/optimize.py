@@ -107,9 +107,7 @@ def build_setup(
             robot.landing_tolerance,
         ),
     )
-    unseen = set(problem.limits.constrained(PhysicalLimits.TARGETS.values())) - set(
-        problem.physical
-    )
+    unseen = set(problem.limits.asked()) - set(problem.physical)
     if unseen:
         console.print(
             f"[yellow]the surrogate was not trained on the channels of {sorted(unseen)} (an "

@@ -387,10 +387,13 @@ class Optimize(Strict):
 
 
 class RefineTarget(Strict):
-    """The fidelity on the robot's first-priority objective that ends the refinement early."""
+    """What ends the refinement early: fidelity on the robot's first-priority objective, and a
+    front the simulator passes (a front of exploits the surrogate has not seen ranks fs1 well
+    and still cannot be run)."""
 
     spearman: Annotated[float, Field(ge=-1, le=1)] = 0.9  # rank correlation over a round's points
     relative_error: PositiveFloat = 0.15  # median over the points and at the optimum itself
+    clean: Annotated[float, Field(ge=0, le=1)] = 0.9  # fraction of the points a real foot could run
 
 
 class Refine(Strict):

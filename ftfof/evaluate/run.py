@@ -133,6 +133,7 @@ def front_members(
         )
         held = held_press(np.asarray(row.t, float), np.asarray(row.Fp, float), landing_hold)
         landed = landing_fault(f["landing_pre_pressure"], held, pre_pressure, landing_tolerance)
+        film_safe = bool(f["min_bend_radius"] >= film.radius)
         members.append(
             {
                 "row": int(row.sample_id),
@@ -143,12 +144,13 @@ def front_members(
                     abs(f["landing_pre_pressure"] - pre_pressure), 4
                 ),
                 "min_bend_radius": round(f["min_bend_radius"], 6),
-                "film_safe": bool(f["min_bend_radius"] >= film.radius),
+                "film_safe": film_safe,
                 "max_clearance": round(float(row.max_clearance), 6),
                 "lets_go": not fault,
                 "release_fault": fault,
                 "lands": not landed,
                 "landing_fault": landed,
+                "clean": film_safe and not fault and not landed,  # a real foot could run it
             }
         )
 
@@ -160,10 +162,25 @@ def front_members(
         "film_safe_fraction": fraction("film_safe"),
         "lets_go_fraction": fraction("lets_go"),
         "lands_fraction": fraction("lands"),
+        "clean_fraction": fraction("clean"),
         "film_limit": film.as_dict(),
         "swing_clearance": clearance,
         "landing_tolerance": landing_tolerance,
     }
+
+
+def judged_front(params: Params, ctx: RobotContext, df: pd.DataFrame) -> dict:
+    """:func:`front_members` with the robot's film, clearance and landing rules."""
+    robot = ctx.robot
+    return front_members(
+        df,
+        ctx.policy.timing,
+        robot.pre_pressure,
+        film_limit(robot, params.selected_surface),
+        robot.foot.swing_clearance,
+        robot.landing_tolerance,
+        params.platform.protocol.landing_hold,
+    )
 
 
 def channels(row: pd.Series) -> dict[str, np.ndarray]:
@@ -339,17 +356,7 @@ def evaluate(
     table = ok_rows(simulations, cfg.reference)
     T3 = ctx.policy.timing.T3
     rows = table_rows(table, cfg.reference, T3)
-    film = film_limit(ctx.robot, params.selected_surface)
-    robot = ctx.robot
-    front = front_members(
-        table,
-        ctx.policy.timing,
-        robot.pre_pressure,
-        film,
-        robot.foot.swing_clearance,
-        robot.landing_tolerance,
-        params.platform.protocol.landing_hold,
-    )
+    front = judged_front(params, ctx, table)
     fid, predicted, simulated = fidelity_of(inputs, table, ctx, surrogate)
     controller = export(ctx, inputs, cfg.export_rate_hz)
     summary = metrics(params, inputs, rows, fid, controller, len(predicted), front)

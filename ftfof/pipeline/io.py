@@ -69,9 +69,15 @@ def write_parquet(path: Path, table: pa.Table) -> None:
 
 
 def save_figure(fig: Any, path: Path, dpi: int = 100) -> None:
-    """A matplotlib figure as PNG, all or nothing."""
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, format="png", dpi=dpi)
+    """A matplotlib figure as PNG, all or nothing; the figure is closed (pyplot keeps every open
+    figure alive until then)."""
+    import matplotlib.pyplot as plt
+
+    try:
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, format="png", dpi=dpi)
+    finally:
+        plt.close(fig)
 
 
 def read_table(path: Path, schema: pa.Schema, what: str) -> pa.Table:

@@ -4,8 +4,9 @@ Each round re-simulates the current optimum and front members spread along its f
 acquisition job), measures the surrogates' fidelity on them *before* training on them, appends them
 to the training split (source ``refine:<k>``), fine-tunes the surrogates from their weights and
 re-runs NSGA-II from the previous front. It stops after ``refine.rounds`` rounds, or earlier once
-the fidelity target on the first-priority objective is met; the models and optimum that met it
-are then kept as they are.
+the fidelity target on the first-priority objective is met and enough of the round's points pass
+the simulator (the pad lets go, its film survives, it lands: a front of exploits the surrogate
+has not seen can rank fs1 well); the models and optimum that met it are then kept as they are.
 
 ``<out>/`` holds one directory per round (``simulations/``, ``models/``, ``optimize/``,
 ``round.json``) and the final ``models/``, ``optimize/`` and grown ``dataset/`` that `evaluate`
@@ -26,13 +27,13 @@ from typing import Any
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from ftfof.config import Params
+from ftfof.config import Params, RefineTarget
 from ftfof.data import dataset as ds
 from ftfof.data.acquisition import ACQUISITION
 from ftfof.data.refinement import grow, round_rows
 from ftfof.errors import DataError, SimulationError
 from ftfof.evaluate.fidelity import Fidelity, relative_error, target_met
-from ftfof.evaluate.run import OPTIMUM, Inputs, fidelity_of, front_sample
+from ftfof.evaluate.run import OPTIMUM, Inputs, fidelity_of, front_sample, judged_front
 from ftfof.pipeline import tracking
 from ftfof.pipeline.bench import bench
 from ftfof.pipeline.console import console
@@ -160,12 +161,9 @@ def _round(
     ok = _ok(table)
     fid, predicted, measured = fidelity_of(inputs, ok, ctx, load_surrogate(state.models))
     names = inputs.objectives
-    met = target_met(
-        fid[0],
-        relative_error(predicted[0, 0], measured[0, 0]),
-        params.refine.target.spearman,
-        params.refine.target.relative_error,
-    )
+    clean = judged_front(params, ctx, ok)["clean_fraction"]
+    optimum_error = relative_error(predicted[0, 0], measured[0, 0])
+    met = round_target_met(params.refine.target, fid[0], optimum_error, clean)
     added = 0
     if not met:
         new = _rows(params, table, k)
@@ -180,13 +178,22 @@ def _round(
         _fine_tune(params, grown, state.models, rdir / "models")
         _search(params, rdir / "models", inputs, rdir / "optimize")
         _advance(state, rdir, new)
-    record = _record(k, added, fid, names, predicted[0], measured[0])
+    record = _record(k, added, fid, clean, names, predicted[0], measured[0])
     write_json(saved, {"record": record, "target_met": met})
     return Round(record, met, simulated)
 
 
+def round_target_met(
+    target: RefineTarget, first: Fidelity, optimum_error: float, clean: float
+) -> bool:
+    """Whether a round's points end the refinement: the first priority's fidelity (and the
+    relative error at the optimum) meets the target, and enough of the points are clean."""
+    fidelity_met = target_met(first, optimum_error, target.spearman, target.relative_error)
+    return fidelity_met and clean >= target.clean
+
+
 def _record(
-    k: int, added: int, fid: list[Fidelity], names: list[str], predicted, simulated
+    k: int, added: int, fid: list[Fidelity], clean: float, names: list[str], predicted, simulated
 ) -> dict[str, Any]:
     """A round's entry of reports/refine.json, but the seconds."""
 
@@ -196,6 +203,7 @@ def _record(
     return {
         "round": k,
         "added": added,
+        "clean_fraction": clean,
         "fidelity": {
             f.objective: {
                 "mae": round(f.mean_abs_error, DIGITS),
@@ -321,6 +329,7 @@ def _say(done: Round, first: str) -> None:
         f"round {r['round']}: {done.simulated} simulated now; {first} rho {f['spearman']:.3f}, "
         f"median relative error {100 * f['median_relative_error']:.1f} %, optimum "
         f"{opt['predicted'][first]:.4g} predicted vs {opt['simulated'][first]:.4g} simulated; "
+        f"{100 * r['clean_fraction']:.0f} % clean; "
         + ("target met, stop" if done.target_met else f"{r['added']} added")
         + f"; {done.seconds:.1f} s"
     )

@@ -19,8 +19,14 @@ def png_data_uri(png: bytes) -> str:
 
 
 def figure_data_uri(fig: Figure, dpi: int = 100) -> str:
+    """The figure as an inline PNG; the figure is closed (pyplot keeps it alive until then)."""
+    import matplotlib.pyplot as plt
+
     buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", dpi=dpi)
+    try:
+        fig.savefig(buffer, format="png", dpi=dpi)
+    finally:
+        plt.close(fig)
     return png_data_uri(buffer.getvalue())
 
 

@@ -23,11 +23,14 @@ def _front(ids) -> pa.Table:
     return to_table(results, "mst_m3f", "acrylic", {}, 1.0, with_wall_time=False)
 
 
-def test_rows_name_their_round_and_all_train():
-    rows = round_rows(_built(_front([3, 7, 11])), 2)
-    assert rows.column("source").to_pylist() == [source(2)] * 3 == ["refine:2"] * 3
-    assert sorted(rows.column("key").to_pylist()) == ["refine:2:11", "refine:2:3", "refine:2:7"]
-    assert set(rows.column("split").to_pylist()) == {"train"}  # 85/15 would send one to validation
+def test_rows_name_their_round_and_keep_the_builds_split():
+    built = _built(_front(range(1, 21)))
+    rows = round_rows(built, 2)
+    assert rows.column("source").to_pylist() == [source(2)] * 20
+    keys = rows.column("key").to_pylist()
+    assert sorted(keys)[:3] == ["refine:2:1", "refine:2:10", "refine:2:11"]
+    assert rows.column("split").equals(built.column("split"))
+    assert rows.column("split").to_pylist().count("validation") == 3  # 15 % of 20, held out
 
 
 def test_grow_appends_in_order_and_keeps_the_original_rows_and_metadata():

@@ -107,6 +107,7 @@ def test_front_members_show_each_trade_and_the_film_verdict():
     assert other["release_fault"] == "the pad never let go"
     assert first["lands"] and not other["lands"] and out["lands_fraction"] == 0.5  # 5.5 / 4.0 N
     assert other["landing_fault"] == "the landing pressed 4.00 N, outside a = 5.00 N ± 15 %"
+    assert first["clean"] and not other["clean"] and out["clean_fraction"] == 0.5
 
 
 def test_the_table_lists_the_reference_then_baselines_then_the_paper_optimum_then_ours():

@@ -1,5 +1,5 @@
-"""Stage `refine`: rounds append re-simulated front rows to training, fine-tune and search again;
-validation never changes; a killed round resumes without losing or re-simulating samples."""
+"""Stage `refine`: rounds append re-simulated front rows (split like the dataset) to the data,
+fine-tune and search again; a killed round resumes without losing or re-simulating samples."""
 
 import copy
 import json
@@ -20,7 +20,7 @@ pytestmark = pytest.mark.integration
 
 runner = CliRunner()
 # A target no surrogate meets: every round runs.
-UNREACHABLE = {"spearman": 1.0, "relative_error": 1e-12}
+UNREACHABLE = {"spearman": 1.0, "relative_error": 1e-12, "clean": 1.0}
 REFINE = {"rounds": 2, "points": 3, "epochs": 2, "patience": 1, "generations": 3}
 
 
@@ -64,12 +64,13 @@ def _files(directory):
     }
 
 
-def test_two_rounds_append_rows_with_their_source_and_keep_validation(optimized, refined):
+def test_two_rounds_append_rows_with_their_source_and_hold_some_out(optimized, refined):
     tmp, work, _, _ = optimized
     report = json.loads((work / "two_rounds.json").read_text())
     assert [r["round"] for r in report["rounds"]] == [1, 2]
     for r in report["rounds"]:
-        assert set(r) == {"round", "added", "fidelity", "optimum", "seconds"}
+        assert set(r) == {"round", "added", "clean_fraction", "fidelity", "optimum", "seconds"}
+        assert 0.0 <= r["clean_fraction"] <= 1.0
         optimum = r["optimum"]
         assert set(r["fidelity"]) == set(optimum["predicted"]) == set(optimum["simulated"])
         for values in r["fidelity"].values():
@@ -85,11 +86,11 @@ def test_two_rounds_append_rows_with_their_source_and_keep_validation(optimized,
         sims = pq.read_table(refined / f"round-{r['round']}" / "simulations" / "samples.parquet")
         ok = sims.column("status").to_pylist().count("ok")
         assert len(rows) == r["added"] == ok >= 2  # the optimum and at least one front member
-        assert set(rows.split) == {"train"}
         assert all(k.startswith(f"refine:{r['round']}:") for k in rows.key)
+        held_out = round(0.15 * r["added"])  # the dataset's validation_fraction: 1 of 4
+        assert list(rows.split).count("validation") == held_out >= 1
+        assert "train" in set(rows.split)
     assert len(added) == sum(r["added"] for r in report["rounds"])
-    split = grown.column("split").to_pylist()
-    assert split.count("validation") == original.column("split").to_pylist().count("validation")
 
 
 def test_final_models_and_optimum_are_the_last_rounds(optimized, refined):
@@ -160,7 +161,8 @@ def test_a_killed_round_resumes_without_losing_or_resimulating(optimized, refine
 
 def test_a_met_target_stops_before_training(optimized):
     tmp, work, _, _ = optimized
-    result, out = _refine(optimized, "met", target={"spearman": -1.0, "relative_error": 1e9})
+    met = {"spearman": -1.0, "relative_error": 1e9, "clean": 0.0}
+    result, out = _refine(optimized, "met", target=met)
     assert result.exit_code == 0, result.output
     (only,) = json.loads((work / "met.json").read_text())["rounds"]
     assert only["added"] == 0 and not (out / "round-1" / "models").exists()

@@ -111,8 +111,15 @@ class Normalization:
         return cls(**json.loads(text))
 
 
-def resample(channels: dict[str, Array], T3: float, hold: float, seq_len: int) -> dict[str, Array]:
-    """One sample's sequences; ``channels["t"]`` is time from the trajectory start."""
+def resample(
+    channels: dict[str, Array],
+    T3: float,
+    hold: float,
+    seq_len: int,
+    landing_start: float | None = None,
+) -> dict[str, Array]:
+    """One sample's sequences; ``channels["t"]`` is time from the trajectory start,
+    ``landing_start`` the robot's T2 (without it the ``retouch`` target is not supplied)."""
     t, x, z = channels["t"], channels["x_cmd"], channels["z_cmd"]
     grid = tg.time_base(T3, hold, seq_len)
     vx, vz = np.gradient(x, t), np.gradient(z, t)
@@ -122,7 +129,7 @@ def resample(channels: dict[str, Array], T3: float, hold: float, seq_len: int) -
         "z": np.interp(grid, t, z),
         "vx": np.interp(grid, t, vx),
         "vz": np.interp(grid, t, vz),
-        **tg.binned(channels, T3, hold, seq_len),
+        **tg.binned(channels, T3, hold, seq_len, landing_start),
     }
 
 
@@ -136,9 +143,13 @@ def split(keys: list[str], fraction: float, seed: int) -> list[str]:
 
 
 def build(
-    acquisition: pa.Table, settings: config.Dataset, seed: int
+    acquisition: pa.Table,
+    settings: config.Dataset,
+    seed: int,
+    landing_start: float | None = None,
 ) -> tuple[pa.Table, Normalization]:
-    """The dataset table (ok samples only) and its training-split normalisation."""
+    """The dataset table (ok samples only) and its training-split normalisation; ``landing_start``
+    is the robot's T2 (the ``retouch`` target's window ends there)."""
     ok = acquisition.filter(pa.compute.equal(acquisition.column("status"), "ok"))
     if ok.num_rows == 0:
         raise DataError("dataset", "no successful samples in the acquisition")
@@ -161,7 +172,7 @@ def build(
         if t.size < 2 or np.any(np.diff(t) <= 0):
             raise DataError(cols["key"][i], "series time is not strictly increasing")
         channels = {c: series[c][i] for c in CHANNELS}
-        s = resample(channels, cols["T3"][i], settings.hold, settings.seq_len)
+        s = resample(channels, cols["T3"][i], settings.hold, settings.seq_len, landing_start)
         for name, values in s.items():
             seqs[name][i] = values
     sources = cols["source"]

@@ -24,6 +24,13 @@ gives on the binned series, so a predicted and a simulated objective measure the
 - ``clearance``: the height of the film's lowest point above the wall (t >= 0; 0 while any of it
   touches), bin maximum -> pad clearance g = 1 - max / required <= 0: the whole pad must rise
   clear of the wall in the swing, or it scuffs along it and lands while still moving.
+- ``retouch``: the bonds formed again after complete detachment and before the landing segment
+  starts (T2), bin maximum -> g = max / 0.5 - 1 <= 0. In a quarter of the sampled trajectories
+  the flap springs back about 10 ms after the switch trips and one bond holds the wall for about
+  50 ms, to be peeled again while the foot swings. The clearance series cannot show it: the
+  flap's dip comes before the pad first rises clear, and its 2 mm are lost in a 50 mm scale.
+  Only where the caller gives the landing segment's start; a pad that never lets go has none
+  (the clearance rule refuses it).
 
 Complete detachment is the photoelectric switch. A simulated record whose switch never trips
 never let go: its pull window runs to the end and it has no landing (its pre-pressure is 0, as
@@ -44,7 +51,7 @@ from ftfof.objectives import DETACHED_FRACTION, jitter_exceedance
 
 Array = NDArray[np.float64]
 
-TARGETS = ("pull", "Fd", "Fp", "jitter", "body_acc", "curvature", "clearance")
+TARGETS = ("pull", "Fd", "Fp", "jitter", "body_acc", "curvature", "clearance", "retouch")
 UNITS = {
     "pull": "N",
     "Fd": "N",
@@ -53,6 +60,7 @@ UNITS = {
     "body_acc": "m/s^2",
     "curvature": "1/m",
     "clearance": "m",
+    "retouch": "bonds",
 }
 JITTER_TAIL = 0.020  # s of fs7's window after complete detachment
 BODY_TAIL = 0.050  # s of fsj's window after complete detachment
@@ -118,9 +126,12 @@ def lift_off_time(t: Array, bonds: Array) -> float:
     return float(t[during[broke[0]]]) if broke.size else 0.0
 
 
-def full_rate(channels: Mapping[str, Array], T3: float) -> dict[str, Array]:
+def full_rate(
+    channels: Mapping[str, Array], T3: float, landing_start: float | None = None
+) -> dict[str, Array]:
     """Every target at the acquisition rate, 0 outside its window (``jitter``, a running total,
-    holds its total after it), all NaN if not supplied."""
+    holds its total after it), all NaN if not supplied (``retouch`` without ``landing_start``,
+    the trajectory's T2)."""
     t = np.asarray(channels["t"], dtype=float)
     nan = np.full_like(t, np.nan)
     fx = np.asarray(channels["Fx_pad"], dtype=float)
@@ -141,6 +152,8 @@ def full_rate(channels: Mapping[str, Array], T3: float) -> dict[str, Array]:
     body = np.asarray(channels.get("body_acc", nan), dtype=float)
     body_window = (t >= lift_off_time(t, bonds)) & (t <= detached + BODY_TAIL)
     curvature, clearance = (_film_channel(channels, k, nan) for k in ("curvature", "clearance"))
+    knows_bonds = landing_start is not None and np.isfinite(bonds).all()
+    swing = (t > detached) & (t < (landing_start if landing_start is not None else -np.inf))
     return {
         "pull": np.where(holding, pull_all, 0.0) if shear_seen else nan,
         "Fd": np.where(holding, np.maximum(fz, 0.0), 0.0),
@@ -149,6 +162,7 @@ def full_rate(channels: Mapping[str, Array], T3: float) -> dict[str, Array]:
         "body_acc": np.where(body_window, body, 0.0) if np.isfinite(body).all() else nan,
         "curvature": np.where(t >= 0, curvature, 0.0) if np.isfinite(curvature).all() else nan,
         "clearance": np.where(t >= 0, clearance, 0.0) if np.isfinite(clearance).all() else nan,
+        "retouch": np.where(swing, bonds, 0.0) if knows_bonds else nan,
     }
 
 
@@ -159,11 +173,17 @@ def _film_channel(channels: Mapping[str, Array], name: str, nan: Array) -> Array
     return values if values.size == nan.size else nan
 
 
-def binned(channels: Mapping[str, Array], T3: float, hold: float, seq_len: int) -> dict[str, Array]:
+def binned(
+    channels: Mapping[str, Array],
+    T3: float,
+    hold: float,
+    seq_len: int,
+    landing_start: float | None = None,
+) -> dict[str, Array]:
     """Every target on the dataset time base: (seq_len,) each, all NaN where not supplied."""
     t = np.asarray(channels["t"], dtype=float)
     out = {}
-    for name, values in full_rate(channels, T3).items():
+    for name, values in full_rate(channels, T3, landing_start).items():
         if not np.isfinite(values).all():
             out[name] = np.full(seq_len, np.nan)
         else:

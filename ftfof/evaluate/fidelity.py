@@ -49,7 +49,8 @@ def simulated_objectives(
     """(n, len(names)) objectives of the decision rows ``X`` from their simulated channels
     (an acquisition's full-rate series, time from the trajectory start)."""
     T3 = policy.timing.T3
-    binned = [targets.binned(r, T3, hold, len(force_t)) for r in records]
+    T2 = policy.timing.T2
+    binned = [targets.binned(r, T3, hold, len(force_t), T2) for r in records]
     series = {k: np.stack([b[k] for b in binned]) for k in targets.TARGETS}
     path = policy.sample(np.atleast_2d(X))
     evidence = Evidence(

@@ -32,6 +32,7 @@ from ftfof.objectives import (
     film_safety,
     fs3_pre_pressure_error,
     pad_clearance,
+    pad_retouch,
     strategy_values,
 )
 from ftfof.surrogate.predict import Surrogate
@@ -47,6 +48,8 @@ class PhysicalLimits:
     the clean release of :mod:`ftfof.data.release` on the predicted clearance: the larger of
     1 - max clearance / swing_clearance (the whole pad rises clear) and 1 - swing gap / detached
     (once risen, it stays at least the switch's height off the wall until the landing).
+    ``pad_retouch``: the same release's last part, on the predicted bonds re-formed between
+    complete detachment and the landing segment (:func:`ftfof.objectives.pad_retouch`).
     ``landing_press``, :mod:`ftfof.data.landing` on the predicted landing pre-pressure:
     fs3 / (tolerance x a) - 1, where the robot has a landing tolerance."""
 
@@ -60,6 +63,7 @@ class PhysicalLimits:
     TARGETS: ClassVar[dict[str, str]] = {
         "film_safety": "curvature",
         "pad_clearance": "clearance",
+        "pad_retouch": "retouch",
         "landing_press": "Fp",
     }
 
@@ -80,6 +84,7 @@ class PhysicalLimits:
         rules = {
             "film_safety": lambda: film_safety(series["curvature"], self.film_radius),
             "pad_clearance": lambda: self._release(series["clearance"], t),
+            "pad_retouch": lambda: pad_retouch(series["retouch"]),
             "landing_press": lambda: self._landing(series["Fp"]),
         }
         return {name: rules[name]() for name in names}

@@ -43,7 +43,8 @@ def build(params: Params, acquisition: Path, imported: Path) -> Dataset:
     if dup := [k for k, c in Counter(keys).items() if c > 1]:
         raise DataError("dataset", f"sample {dup[0]!r} appears twice (imported twice?)")
     cfg = params.dataset
-    built, norm = dataset.build(table, cfg, seed_for(params.base.seed, "split"))
+    landing_start = params.selected_robot.timing.T2
+    built, norm = dataset.build(table, cfg, seed_for(params.base.seed, "split"), landing_start)
     manifest = acquisition / MANIFEST
     sim_versions = json.loads(manifest.read_text()).get("versions", {}) if manifest.exists() else {}
     meta = {

@@ -258,7 +258,8 @@ def _ok(table: pa.Table):
 
 def _rows(params: Params, table: pa.Table, k: int) -> pa.Table:
     """A round's successful simulations as training rows of the dataset."""
-    built, _ = ds.build(table, params.dataset, seed_for(params.base.seed, "split"))
+    seed, landing_start = seed_for(params.base.seed, "split"), params.selected_robot.timing.T2
+    built, _ = ds.build(table, params.dataset, seed, landing_start)
     return round_rows(built, k)
 
 

@@ -71,6 +71,7 @@ TITLES = {
     "body_acc": "body acceleration [m/s²]",
     "curvature": "film curvature [1/m]",
     "clearance": "pad clearance [m]",
+    "retouch": "bonds formed again in the swing [bonds]",
 }
 
 

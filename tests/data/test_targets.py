@@ -105,3 +105,17 @@ def test_a_force_log_supplies_the_forces_only():
     assert np.isnan(s["body_acc"]).all() and np.isnan(s["curvature"]).all()
     assert np.isnan(s["clearance"]).all()
     assert s["Fp"].max() == pytest.approx(5.0, rel=1e-3)  # detachment by eq. 11's 5 % rule
+
+
+def test_retouch_counts_bonds_formed_again_between_the_switch_and_the_landing_segment():
+    ch = fake_channels(4.0)
+    t = ch["t"]
+    assert np.isnan(targets.binned(ch, T3, HOLD, N)["retouch"]).all()  # no T2 given
+    clean = targets.binned(ch, T3, HOLD, N, landing_start=0.6)["retouch"]
+    assert np.all(clean == 0)  # the fake pad lets go (switch at 0.2 s) and lands at T3
+    ch["bonds"] = np.where((t > SWITCH + 0.01) & (t < SWITCH + 0.06), 2.0, ch["bonds"])
+    ch["bonds"] = np.where(t > 0.8, 20.0, ch["bonds"])  # the landing re-bonds: not a retouch
+    s = targets.binned(ch, T3, HOLD, N, landing_start=0.6)["retouch"]
+    assert s.max() == 2.0
+    base = targets.time_base(T3, HOLD, N)
+    assert np.all(s[base > SWITCH + 0.08] == 0) and np.all(s[base < SWITCH] == 0)

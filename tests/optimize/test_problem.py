@@ -59,7 +59,9 @@ def test_shapes_and_box(ctx, surrogate):
     np.testing.assert_allclose(
         clear, np.maximum(1 - predicted.max(1) / foot.swing_clearance, 1 - gap / 0.002)
     )
-    limits = [film, clear]
+    retouch = result.physical["pad_retouch"]
+    np.testing.assert_allclose(retouch, result.series["retouch"].max(1) / 0.5 - 1)
+    limits = [film, clear, retouch]
     tolerance = ctx.robot.landing_tolerance
     if tolerance is None:  # MST-Q presses past a by design: no landing limit
         assert "landing_press" not in result.physical
@@ -72,12 +74,12 @@ def test_shapes_and_box(ctx, surrogate):
     np.testing.assert_allclose(out["G"][:, -len(limits) :], np.column_stack(limits))
 
 
-@pytest.mark.parametrize("dropped", ["curvature", "clearance", "Fp"])
+@pytest.mark.parametrize("dropped", ["curvature", "clearance", "retouch", "Fp"])
 def test_an_untrained_physical_target_is_no_constraint(m3f, surrogate, dropped):
     trained = tuple(n for n in surrogate.trained if n != dropped)
     untrained = dataclasses.replace(surrogate, trained=trained)
     problem = _problem(m3f, untrained)
-    assert problem.n_ieq_constr == len(problem.rules) + 2 and len(problem.physical) == 2
+    assert problem.n_ieq_constr == len(problem.rules) + 3 and len(problem.physical) == 3
     with pytest.raises(ValueError, match=dropped):
         untrained.predict(np.zeros((1, 32, 2)), np.zeros((1, 32, 2)), [dropped])
 

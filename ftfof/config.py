@@ -376,7 +376,7 @@ class Optimize(Strict):
     mutation_eta: PositiveFloat = 20.0  # polynomial mutation distribution index
     log_every: PositiveInt = 10  # generations between hypervolume records
     recheck_samples: Annotated[int, Field(ge=16)] = 4096  # independent feasibility grid
-    rhs_alpha: Fraction = 0.4  # Algorithm 1: initial fraction of each objective's range kept
+    rhs_alpha: Fraction = 0.9  # Algorithm 1 (the paper's alpha0): fraction of each range kept
     rhs_beta: Annotated[float, Field(gt=0, lt=1)] = 0.9  # Algorithm 1: shrink factor
     verify_candidates: NonNegativeInt = 16  # RHS candidates simulated, then chosen on; 0 = trust
     # each candidate is also simulated this many times with every free control value off by a

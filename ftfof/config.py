@@ -403,7 +403,7 @@ class Refine(Strict):
     points: NonNegativeInt = 50  # front members re-simulated per round, besides the optimum
     target: RefineTarget = RefineTarget()
     epochs: PositiveInt = 15  # fine-tuning epochs per round, warm-started from the last weights
-    patience: PositiveInt = 4  # early stopping on the (unchanged) validation split
+    patience: PositiveInt = 4  # early stopping on validation, grown by the rounds' held-out rows
     lr: PositiveFloat = 1e-3  # fine-tuning learning rate
     generations: PositiveInt = 300  # NSGA-II generations per round, from the previous front
 

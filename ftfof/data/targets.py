@@ -29,8 +29,9 @@ gives on the binned series, so a predicted and a simulated objective measure the
   the flap springs back about 10 ms after the switch trips and one bond holds the wall for about
   50 ms, to be peeled again while the foot swings. The clearance series cannot show it: the
   flap's dip comes before the pad first rises clear, and its 2 mm are lost in a 50 mm scale.
-  Only where the caller gives the landing segment's start; a pad that never lets go has none
-  (the clearance rule refuses it).
+  A pad that never lets go holds the wall all along: its bonds count from t = 0. Only where the
+  record has the bonds and the switch (the 5 % rule can fall before the last bond breaks) and
+  the caller gives the landing segment's start.
 
 Complete detachment is the photoelectric switch. A simulated record whose switch never trips
 never let go: its pull window runs to the end and it has no landing (its pre-pressure is 0, as
@@ -138,7 +139,8 @@ def full_rate(
     fz = np.asarray(channels["Fz_pad"], dtype=float)
     bonds = np.asarray(channels.get("bonds", nan), dtype=float)
     pull_all = pull_force(fx, fz)
-    detached = detachment_time(t, np.asarray(channels.get("switch", nan), float), pull_all, T3)
+    switch = np.asarray(channels.get("switch", nan), float)
+    detached = detachment_time(t, switch, pull_all, T3)
     holding = (t >= 0) & (t <= detached) & ~(bonds <= 0)
     jitter_window = (t >= 0) & (t <= detached + JITTER_TAIL)
     jitter = np.zeros_like(t)
@@ -152,8 +154,10 @@ def full_rate(
     body = np.asarray(channels.get("body_acc", nan), dtype=float)
     body_window = (t >= lift_off_time(t, bonds)) & (t <= detached + BODY_TAIL)
     curvature, clearance = (_film_channel(channels, k, nan) for k in ("curvature", "clearance"))
-    knows_bonds = landing_start is not None and np.isfinite(bonds).all()
-    swing = (t > detached) & (t < (landing_start if landing_start is not None else -np.inf))
+    switched = switch.size == t.size and np.isfinite(switch).all()
+    knows_retouch = landing_start is not None and switched and np.isfinite(bonds).all()
+    off_from = detached if np.isfinite(detached) else 0.0  # never let go: held on all along
+    swing = (t > off_from) & (t < (landing_start if landing_start is not None else -np.inf))
     return {
         "pull": np.where(holding, pull_all, 0.0) if shear_seen else nan,
         "Fd": np.where(holding, np.maximum(fz, 0.0), 0.0),
@@ -162,7 +166,7 @@ def full_rate(
         "body_acc": np.where(body_window, body, 0.0) if np.isfinite(body).all() else nan,
         "curvature": np.where(t >= 0, curvature, 0.0) if np.isfinite(curvature).all() else nan,
         "clearance": np.where(t >= 0, clearance, 0.0) if np.isfinite(clearance).all() else nan,
-        "retouch": np.where(swing, bonds, 0.0) if knows_bonds else nan,
+        "retouch": np.where(swing, bonds, 0.0) if knows_retouch else nan,
     }
 
 

@@ -2,11 +2,13 @@
 
 Each round re-simulates the current optimum and front members spread along its front (a resumable
 acquisition job), measures the surrogates' fidelity on them *before* training on them, appends them
-to the training split (source ``refine:<k>``), fine-tunes the surrogates from their weights and
-re-runs NSGA-II from the previous front. It stops after ``refine.rounds`` rounds, or earlier once
-the fidelity target on the first-priority objective is met and enough of the round's points pass
-the simulator (the pad lets go, its film survives, it lands: a front of exploits the surrogate
-has not seen can rank fs1 well); the models and optimum that met it are then kept as they are.
+to the dataset (source ``refine:<k>``, split like the dataset with the round's own seed, so
+fine-tuning's early stopping sees the region the optimiser went to), fine-tunes the surrogates
+from their weights and re-runs NSGA-II from the previous front. It stops after ``refine.rounds``
+rounds, or earlier once the fidelity target on the first-priority objective is met and enough of
+the round's points pass the simulator (the pad lets go, its film survives, it lands: a front of
+exploits the surrogate has not seen can rank fs1 well); the models and optimum that met it are
+then kept as they are.
 
 ``<out>/`` holds one directory per round (``simulations/``, ``models/``, ``optimize/``,
 ``round.json``) and the final ``models/``, ``optimize/`` and grown ``dataset/`` that `evaluate`
@@ -161,7 +163,7 @@ def _round(
     ok = _ok(table)
     fid, predicted, measured = fidelity_of(inputs, ok, ctx, load_surrogate(state.models))
     names = inputs.objectives
-    clean = judged_front(params, ctx, ok)["clean_fraction"]
+    clean = _clean_fraction(params, ctx, ok, table.num_rows)
     optimum_error = relative_error(predicted[0, 0], measured[0, 0])
     met = round_target_met(params.refine.target, fid[0], optimum_error, clean)
     added = 0
@@ -181,6 +183,12 @@ def _round(
     record = _record(k, added, fid, clean, names, predicted[0], measured[0])
     write_json(saved, {"record": record, "target_met": met})
     return Round(record, met, simulated)
+
+
+def _clean_fraction(params: Params, ctx: RobotContext, ok, simulated: int) -> float:
+    """The round's points a real foot could run, over all it simulated (a failed run is not)."""
+    members = judged_front(params, ctx, ok)["members"]
+    return sum(m["clean"] for m in members) / simulated
 
 
 def round_target_met(
@@ -257,9 +265,9 @@ def _ok(table: pa.Table):
 
 
 def _rows(params: Params, table: pa.Table, k: int) -> pa.Table:
-    """A round's successful simulations as training rows of the dataset."""
-    seed, landing_start = seed_for(params.base.seed, "split"), params.selected_robot.timing.T2
-    built, _ = ds.build(table, params.dataset, seed, landing_start)
+    """A round's successful simulations as dataset rows, some held out for validation."""
+    seed = seed_for(params.base.seed, "split", k)  # each round its own held-out positions
+    built, _ = ds.build(table, params.dataset, seed, params.selected_robot.timing.T2)
     return round_rows(built, k)
 
 

@@ -119,3 +119,37 @@ def test_retouch_counts_bonds_formed_again_between_the_switch_and_the_landing_se
     assert s.max() == 2.0
     base = targets.time_base(T3, HOLD, N)
     assert np.all(s[base > SWITCH + 0.08] == 0) and np.all(s[base < SWITCH] == 0)
+
+
+def test_a_pad_that_never_lets_go_counts_every_bond_it_holds_as_a_retouch():
+    ch = fake_channels(4.0)
+    t = ch["t"]
+    ch["switch"] = np.zeros_like(t)
+    ch["bonds"] = np.where(t > 0.1, 3.0, ch["bonds"])  # its tail stays on the wall
+    s = targets.binned(ch, T3, HOLD, N, landing_start=0.6)["retouch"]
+    assert s.max() == 20.0  # from t = 0: the whole pad, then its tail
+    assert np.all(s[targets.time_base(T3, HOLD, N) > 0.6 + 0.0125] == 0)
+
+
+def test_retouch_needs_the_switch_and_the_bonds():
+    ch = fake_channels(4.0)
+    nan = np.full_like(ch["t"], np.nan)
+    assert np.isnan(targets.binned({**ch, "switch": nan}, T3, HOLD, N, 0.6)["retouch"]).all()
+    assert np.isnan(targets.binned({**ch, "bonds": nan}, T3, HOLD, N, 0.6)["retouch"]).all()
+
+
+def test_the_retouch_constraint_refuses_what_the_release_verdict_refuses():
+    """The target and the simulator's verdict read the same window: a bond back on the wall
+    between the switch and T2 fails both; one formed at the landing fails neither."""
+    from ftfof.data.release import release_fault
+    from ftfof.objectives import pad_retouch
+
+    ch = fake_channels(4.0)
+    t = ch["t"]
+    landing = np.where(t > 0.8, 20.0, ch["bonds"])
+    back = np.where((t > SWITCH + 0.01) & (t < SWITCH + 0.06), 1.0, landing)
+    for bonds, refused in ((landing, False), (back, True)):
+        record = {**ch, "bonds": bonds}
+        g = pad_retouch(targets.binned(record, T3, HOLD, N, landing_start=0.6)["retouch"])
+        fault = release_fault(t, bonds, SWITCH, 0.05, 0.009, 0.6)
+        assert (g > 0) == refused == fault.startswith("the pad touched the wall again")

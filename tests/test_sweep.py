@@ -15,14 +15,25 @@ def test_the_product_names_every_setting_in_every_experiment():
         "s1-mst_q-glass",
     ]
     assert experiments[3].queue_args() == [
-        "exp", "run", "--queue", "-n", "s1-mst_q-glass", "-S", "robot=mst_q", "-S", "surface=glass"
+        "exp", "run", "--queue", "-n", "s1-mst_q-glass", "-S", "robot=mst_q", "-S", "surface=glass",
+        "-S", "train.alias=exp-s1-mst_q-glass",
     ]  # fmt: skip
+
+
+def test_an_experiment_registers_under_its_own_valid_alias():
+    """The registry is shared: an experiment moving `champion` would make the workspace's next
+    `dvc repro` refuse its own models."""
+    from ftfof.config import Train
+
+    (experiment,) = plan(parse_axes(["seeds=1"]), "1.5")
+    assert experiment.alias == "exp-1-5seed1" != Train().alias
+    Train(alias=experiment.alias)  # a valid train.alias
 
 
 def test_a_seed_sweep_sets_the_search_seed_only():
     experiments = plan(parse_axes(["seeds=1,2,3"]))
     assert [e.name for e in experiments] == ["seed1", "seed2", "seed3"]
-    assert experiments[1].queue_args()[-2:] == ["-S", "base.search_seed=2"]
+    assert experiments[1].queue_args()[-4:-2] == ["-S", "base.search_seed=2"]
     check_presets(parse_axes(["seeds=4"]), {"robot": ["mst_q"], "surface": ["glass"]})
 
 

@@ -4,7 +4,9 @@
 and so on; ``seeds=1,2,3`` re-runs the chain from train on with three search seeds on the same
 data (the robustness of the answer). Each experiment sets every axis explicitly (``dvc exp run``
 keeps the workspace's params for the next experiment, so a setting left out would leak from the
-previous one).
+previous one), and registers its surrogates under its own alias (``train.alias = exp-<name>``):
+the registry is shared, and an experiment that moved ``champion`` made the workspace's next
+``dvc repro`` refuse its own models.
 """
 
 from __future__ import annotations
@@ -31,9 +33,15 @@ class Experiment:
     name: str
     settings: dict[str, str]  # params key -> value
 
+    @property
+    def alias(self) -> str:
+        """The registry alias of this experiment's surrogates (a valid ``train.alias``)."""
+        return "exp-" + re.sub(r"[^A-Za-z0-9_-]", "-", self.name)
+
     def queue_args(self) -> list[str]:
         """Arguments of ``dvc`` that queue this experiment."""
-        sets = [arg for key, value in self.settings.items() for arg in ("-S", f"{key}={value}")]
+        settings = {**self.settings, "train.alias": self.alias}
+        sets = [arg for key, value in settings.items() for arg in ("-S", f"{key}={value}")]
         return ["exp", "run", "--queue", "-n", self.name, *sets]
 
 

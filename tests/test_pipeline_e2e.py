@@ -132,3 +132,9 @@ def test_a_queued_sweep_runs_in_parallel_workers_and_compares(repo):
     on_glass = client.search_runs([m3f.experiment_id], "tags.`dvc.exp_name` = 'mst_m3f-glass'")
     assert {r.info.run_name for r in on_glass} >= {"train", "optimize", "refine", "evaluate"}
     assert all(r.data.params.get("surface", "glass") == "glass" for r in on_glass)
+    # each experiment registered under its own alias; the workspace's champion is not theirs
+    mine = client.get_model_version_by_alias("ftfof-mst_m3f-mse", "exp-mst_m3f-glass")
+    assert client.get_run(mine.run_id).data.tags["dvc.exp_name"] == "mst_m3f-glass"
+    for version in client.search_model_versions("name = 'ftfof-mst_m3f-mse'"):
+        if "champion" in version.aliases:
+            assert "dvc.exp_name" not in client.get_run(version.run_id).data.tags

@@ -235,6 +235,9 @@ class Robot(Strict):
     # the landing must press the pad to a within this fraction of a: the next stance's preload
     # (a constraint of the search and a verdict of the simulator check); None: not required
     landing_tolerance: Fraction | None = None
+    # bonds formed again in the swing (after complete detachment, before T2) the search may
+    # predict: 0.5 = more likely than not none (the pad_retouch constraint); None: not required
+    retouch_allowed: NonNegativeFloat | None = 0.5
     platform: PlatformMechanics
     # The paper's published optimum (12 decision values, m), simulated in `evaluate` like a
     # baseline and never fitted; null where the robot has none usable here.

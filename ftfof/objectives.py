@@ -147,14 +147,12 @@ def pad_clearance(clearance: Array, required: float) -> Array:
     return 1.0 - np.max(clearance, axis=-1) / required
 
 
-RETOUCH_ALLOWED = 0.5  # bonds: a prediction of half a bond re-formed is "more likely than not"
-
-
-def pad_retouch(retouch: Array) -> Array:
-    """max re-formed bonds in the swing / 0.5 - 1: <= 0 when the pad, once off, is expected to
+def pad_retouch(retouch: Array, allowed: float) -> Array:
+    """max re-formed bonds in the swing / allowed - 1: <= 0 when the pad, once off, is expected to
     stay off the wall until the landing segment (the retouch target's values are 0 or whole
-    bonds, so a prediction is the expected count where the outcome is uncertain)."""
-    return np.max(retouch, axis=-1) / RETOUCH_ALLOWED - 1.0
+    bonds, so a prediction is the expected count where the outcome is uncertain: 0.5 allowed
+    means more likely than not none)."""
+    return np.max(retouch, axis=-1) / allowed - 1.0
 
 
 @dataclass(frozen=True)

@@ -114,9 +114,11 @@ def trained(tmp_path_factory, raw_params):
     tmp = tmp_path_factory.mktemp("train")
     data = dict(raw_params)
     data["dataset"] = {**raw_params["dataset"], "seq_len": 24}
-    # as in profiles/tiny.yaml: a surrogate this small predicts no landing within 10 % of a
-    m3f = {**raw_params["robots"]["mst_m3f"], "landing_tolerance": None}
-    data["robots"] = {**raw_params["robots"], "mst_m3f": m3f}
+    # as in profiles/tiny.yaml: a surrogate this small predicts no landing within 10 % of a, and
+    # a retouch everywhere
+    m3f = {**raw_params["robots"]["mst_m3f"], "landing_tolerance": None, "retouch_allowed": None}
+    mst_q = {**raw_params["robots"]["mst_q"], "retouch_allowed": None}
+    data["robots"] = {**raw_params["robots"], "mst_m3f": m3f, "mst_q": mst_q}
     data["train"] = {  # both losses, so the DILATE path and the comparison stay covered
         **raw_params["train"],
         "hidden": 6,

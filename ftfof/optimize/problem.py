@@ -49,7 +49,8 @@ class PhysicalLimits:
     1 - max clearance / swing_clearance (the whole pad rises clear) and 1 - swing gap / detached
     (once risen, it stays at least the switch's height off the wall until the landing).
     ``pad_retouch``: the same release's last part, on the predicted bonds re-formed between
-    complete detachment and the landing segment (:func:`ftfof.objectives.pad_retouch`).
+    complete detachment and the landing segment (:func:`ftfof.objectives.pad_retouch`), where
+    the robot allows a number.
     ``landing_press``, :mod:`ftfof.data.landing` on the predicted landing pre-pressure:
     fs3 / (tolerance x a) - 1, where the robot has a landing tolerance."""
 
@@ -59,6 +60,7 @@ class PhysicalLimits:
     landing_start: float  # s, T2
     pre_pressure: float  # a, N
     landing_tolerance: float | None = None  # robot.landing_tolerance (None: not constrained)
+    retouch_allowed: float | None = None  # robot.retouch_allowed, bonds (None: not constrained)
 
     TARGETS: ClassVar[dict[str, str]] = {
         "film_safety": "curvature",
@@ -68,10 +70,9 @@ class PhysicalLimits:
     }
 
     def asked(self) -> tuple[str, ...]:
-        """The limits the robot asks for: the landing press only where it sets a tolerance."""
-        return tuple(
-            name for name in self.TARGETS if name != "landing_press" or self.landing_tolerance
-        )
+        """The limits the robot asks for: the landing press and the retouch where it sets them."""
+        optional = {"landing_press": self.landing_tolerance, "pad_retouch": self.retouch_allowed}
+        return tuple(name for name in self.TARGETS if optional.get(name, True) is not None)
 
     def constrained(self, trained: Sequence[str]) -> tuple[str, ...]:
         """The limits asked for whose channel the surrogate was trained on."""
@@ -84,7 +85,7 @@ class PhysicalLimits:
         rules = {
             "film_safety": lambda: film_safety(series["curvature"], self.film_radius),
             "pad_clearance": lambda: self._release(series["clearance"], t),
-            "pad_retouch": lambda: pad_retouch(series["retouch"]),
+            "pad_retouch": lambda: pad_retouch(series["retouch"], self.retouch_allowed),
             "landing_press": lambda: self._landing(series["Fp"]),
         }
         return {name: rules[name]() for name in names}

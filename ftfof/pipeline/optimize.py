@@ -105,6 +105,7 @@ def build_setup(
             ctx.policy.timing.T2,
             robot.pre_pressure,
             robot.landing_tolerance,
+            robot.retouch_allowed,
         ),
     )
     unseen = set(problem.limits.asked()) - set(problem.physical)

@@ -150,6 +150,6 @@ def test_the_retouch_constraint_refuses_what_the_release_verdict_refuses():
     back = np.where((t > SWITCH + 0.01) & (t < SWITCH + 0.06), 1.0, landing)
     for bonds, refused in ((landing, False), (back, True)):
         record = {**ch, "bonds": bonds}
-        g = pad_retouch(targets.binned(record, T3, HOLD, N, landing_start=0.6)["retouch"])
+        g = pad_retouch(targets.binned(record, T3, HOLD, N, landing_start=0.6)["retouch"], 0.5)
         fault = release_fault(t, bonds, SWITCH, 0.05, 0.009, 0.6)
         assert (g > 0) == refused == fault.startswith("the pad touched the wall again")

@@ -24,6 +24,7 @@ def _problem(ctx, surrogate, objectives=None):
             ctx.policy.timing.T2,
             robot.pre_pressure,
             robot.landing_tolerance,
+            robot.retouch_allowed,
         ),
     )
 
@@ -60,7 +61,8 @@ def test_shapes_and_box(ctx, surrogate):
         clear, np.maximum(1 - predicted.max(1) / foot.swing_clearance, 1 - gap / 0.002)
     )
     retouch = result.physical["pad_retouch"]
-    np.testing.assert_allclose(retouch, result.series["retouch"].max(1) / 0.5 - 1)
+    allowed = ctx.robot.retouch_allowed
+    np.testing.assert_allclose(retouch, result.series["retouch"].max(1) / allowed - 1)
     limits = [film, clear, retouch]
     tolerance = ctx.robot.landing_tolerance
     if tolerance is None:  # MST-Q presses past a by design: no landing limit
@@ -116,3 +118,10 @@ def test_objectives_follow_the_priority_order(m3f, surrogate):
     F = problem.evaluate_population(free).F
     reversed_problem = _problem(m3f, surrogate, m3f.robot.objectives[::-1])
     np.testing.assert_allclose(reversed_problem.evaluate_population(free).F, F[:, ::-1])
+
+
+def test_a_robot_asks_for_the_landing_press_and_the_retouch_only_where_it_sets_them():
+    limits = PhysicalLimits(0.0016, 0.009, 0.002, 0.6, 5.0)
+    assert limits.asked() == ("film_safety", "pad_clearance")
+    both = dataclasses.replace(limits, landing_tolerance=0.1, retouch_allowed=0.5)
+    assert both.asked() == ("film_safety", "pad_clearance", "pad_retouch", "landing_press")

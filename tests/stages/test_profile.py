@@ -36,6 +36,7 @@ def test_tiny_profile_sets_its_values_and_keeps_everything_else(tmp_path):
     _overlay(before, tiny)
     assert after == before  # the profile's values (at any depth), nothing else changed
     assert after["robots"]["mst_m3f"]["landing_tolerance"] is None
+    assert after["robots"]["mst_m3f"]["retouch_allowed"] is None
     assert after["robots"]["mst_m3f"]["pre_pressure"] == 5.0
     text = params.read_text()
     assert "# FTFOF §VI.C" in text and "platform: &m3f_platform\n" in text  # comments, anchors

@@ -25,10 +25,11 @@ gives on the binned series, so a predicted and a simulated objective measure the
   touches), bin maximum -> pad clearance g = 1 - max / required <= 0: the whole pad must rise
   clear of the wall in the swing, or it scuffs along it and lands while still moving.
 - ``retouch``: the bonds formed again after complete detachment and before the landing segment
-  starts (T2), bin maximum -> g = max / 0.5 - 1 <= 0. In a quarter of the sampled trajectories
-  the flap springs back about 10 ms after the switch trips and one bond holds the wall for about
-  50 ms, to be peeled again while the foot swings. The clearance series cannot show it: the
-  flap's dip comes before the pad first rises clear, and its 2 mm are lost in a 50 mm scale.
+  starts (T2), bin maximum -> g = max / retouch_allowed - 1 <= 0 (the robot's, 0.5 bonds). In
+  a quarter of the sampled trajectories the flap springs back about 10 ms after the switch trips
+  and one bond holds the wall for about 50 ms, to be peeled again while the foot swings. The
+  clearance series cannot show it: the flap's dip comes before the pad first rises clear, and
+  its 2 mm are lost in a 50 mm scale.
   A pad that never lets go holds the wall all along: its bonds count from t = 0. Only where the
   record has the bonds and the switch (the 5 % rule can fall before the last bond breaks) and
   the caller gives the landing segment's start.
@@ -157,7 +158,6 @@ def full_rate(
     switched = switch.size == t.size and np.isfinite(switch).all()
     knows_retouch = landing_start is not None and switched and np.isfinite(bonds).all()
     off_from = detached if np.isfinite(detached) else 0.0  # never let go: held on all along
-    swing = (t > off_from) & (t < (landing_start if landing_start is not None else -np.inf))
     return {
         "pull": np.where(holding, pull_all, 0.0) if shear_seen else nan,
         "Fd": np.where(holding, np.maximum(fz, 0.0), 0.0),
@@ -166,7 +166,9 @@ def full_rate(
         "body_acc": np.where(body_window, body, 0.0) if np.isfinite(body).all() else nan,
         "curvature": np.where(t >= 0, curvature, 0.0) if np.isfinite(curvature).all() else nan,
         "clearance": np.where(t >= 0, clearance, 0.0) if np.isfinite(clearance).all() else nan,
-        "retouch": np.where(swing, bonds, 0.0) if knows_retouch else nan,
+        "retouch": (
+            np.where((t > off_from) & (t < landing_start), bonds, 0.0) if knows_retouch else nan
+        ),
     }
 
 

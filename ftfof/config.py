@@ -28,6 +28,8 @@ Fraction = Annotated[float, Field(gt=0, le=1)]
 Objective = Literal["fs1", "fs2", "fs3", "fs4", "fs5", "fs7", "fsj", "fs1_normal", "fs2_normal"]
 Strategy = Literal[Objective, "fs6"]  # every strategy function (FTFOF §V.A)
 Loss = Literal["dilate", "mse"]
+# the surrogates' target series (ftfof.data.targets.TARGETS, in its order)
+Target = Literal["pull", "Fd", "Fp", "jitter", "body_acc", "curvature", "clearance", "retouch"]
 Baseline = Literal["polynomial", "cycloidal", "random_bezier", "eps_bezier"]
 Design = Literal["sobol", "lhs"]
 
@@ -360,6 +362,10 @@ class Train(Strict):
     alias: Annotated[str, Field(pattern=r"^[A-Za-z][A-Za-z0-9_-]*$")] = "champion"
     threads: NonNegativeInt = 0  # torch threads per model, 0 = all cores / models
     parallel: bool = True  # train the models side by side, one process each
+    # targets whose peak a GP predicts from the 12 control values (ftfof/surrogate/peaks.py);
+    # the series keeps the GRU's shape, scaled to the GP's peak. fs3's landing press and fs7's
+    # total: the GP's validation error is a third and a half of the GRU's (docs/surrogates.md)
+    peaks: Annotated[list[Target], AfterValidator(_distinct)] = ["Fp", "jitter"]
 
     @model_validator(mode="after")
     def _use_is_trained(self) -> Train:

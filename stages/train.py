@@ -38,7 +38,7 @@ def command(
     run = train_all(params, data)
     loss_fig = loss_figure(run.results)
     pred_fig = prediction_figure(run.results, data, seed_for(params.base.seed, "plots"))
-    write_models(out, run.results, data, params.train)
+    write_models(out, run.results, data, params.train, run.peaks)
     write_json(metrics, run.summary)
     save_figure(loss_fig, loss_plot)
     save_figure(pred_fig, pred_plot)
@@ -54,4 +54,16 @@ def command(
                 f"  {target:9s} MSE {m['mse']:.4g}, DTW {m['dtw']:.4g}, "
                 f"peak error median {m['peak_error_median']:.3g}, p90 {m['peak_error_p90']:.3g}"
             )
+    for target, m in run.summary["peaks"].items():
+        gp, gru = m["gp"], m["gru"]
+        console.print(
+            f"{target} peak GP: error median {gp['peak_error_median']:.3g}, p90 "
+            f"{gp['peak_error_p90']:.3g}, rho {gp['spearman']:.3f} (GRU's maximum: "
+            f"{gru['peak_error_median']:.3g}, {gru['peak_error_p90']:.3g}, {gru['spearman']:.3f})"
+        )
+    for target in run.summary["peaks_not_fitted"]:
+        console.print(
+            f"[yellow]{target} peak: no GP (too few training rows have control values and "
+            "the target); the GRU's series maximum stands[/]"
+        )
     console.print(f"trained {len(run.results)} models in {run.wall:.0f} s -> {out}")

@@ -218,6 +218,8 @@ def arrays(table: pa.Table, split_name: str) -> tuple[Array, Array]:
     rows = table.filter(pa.compute.equal(table.column("split"), split_name))
 
     def stack(names: tuple[str, ...]) -> Array:
+        if rows.num_rows == 0:  # e.g. no baselines acquired: an empty split, not an error
+            return np.empty((0, len(table.column("t")[0]) if table.num_rows else 0, len(names)))
         return np.stack(
             [np.stack(rows.column(k).to_numpy(zero_copy_only=False)) for k in names], axis=-1
         )

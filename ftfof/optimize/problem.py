@@ -151,7 +151,7 @@ class TrajectoryProblem(Problem):
         X = self.policy.expand(free)
         path = self.policy.sample(X)
         on_base = self.policy.sample(X, self.force_t)
-        series = self.surrogate.predict(on_base.position, on_base.velocity)
+        series = self.surrogate.predict(on_base.position, on_base.velocity, decisions=X)
         timing = self.policy.timing
         evidence = Evidence(
             series=series,

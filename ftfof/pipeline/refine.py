@@ -272,9 +272,10 @@ def _rows(params: Params, table: pa.Table, k: int) -> pa.Table:
 
 
 def _fine_tune(params: Params, data: TrainingData, start: Path, out: Path) -> None:
-    """The ``train.use`` models fine-tuned on ``data`` from the weights in ``start`` -> ``out``."""
+    """The ``train.use`` models fine-tuned on ``data`` from the weights in ``start``, and the peak
+    models refitted on it -> ``out``."""
     from ftfof.pipeline.training import train_all
-    from ftfof.surrogate.store import load_states, write_models
+    from ftfof.surrogate.store import load_states, load_surrogate, write_models
 
     cfg = params.refine
     tune = params.train.model_copy(
@@ -286,8 +287,11 @@ def _fine_tune(params: Params, data: TrainingData, start: Path, out: Path) -> No
         }
     )
     states = {loss: s for loss, s in load_states(start).items() if loss == params.train.use}
-    run = train_all(params.model_copy(update={"train": tune}), data, warm_start=states)
-    write_models(out, run.results, data, tune)
+    peaks = load_surrogate(start).peaks
+    run = train_all(
+        params.model_copy(update={"train": tune}), data, warm_start=states, peaks_from=peaks
+    )
+    write_models(out, run.results, data, tune, run.peaks)
 
 
 def _search(params: Params, models: Path, inputs: Inputs, out: Path) -> None:

@@ -1,5 +1,6 @@
-"""The `train` run: one multi-output GRU per loss, side by side in processes, and its MLflow runs
-(a parent per invocation, a child per model, every model registered as a version)."""
+"""The `train` run: one multi-output GRU per loss, side by side in processes, the GPs of the
+peaks ``train.peaks`` names, and its MLflow runs (a parent per invocation, a child per model,
+every model registered as a version)."""
 
 from __future__ import annotations
 
@@ -13,6 +14,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from scipy.stats import spearmanr
 
 from ftfof.config import Params, Train
 from ftfof.errors import DataError
@@ -20,12 +22,17 @@ from ftfof.pipeline import tracking
 from ftfof.pipeline.digests import models_digest
 from ftfof.pipeline.registry import model_name
 from ftfof.seeds import seed_for
-from ftfof.surrogate.store import TARGETS, TrainingData, weights_file
+from ftfof.surrogate.peaks import PeakModel, fit_peak_model
+from ftfof.surrogate.store import PEAKS, TARGETS, TrainingData, weights_file
+from ftfof.trajectory.bezier import DECISION_NAMES
+
+MIN_PEAK_ROWS = 3  # training rows with control values and the target a peak GP needs
 
 
 @dataclass
 class Training:
     results: list[dict[str, Any]]  # one per loss: job, state dict, history, metrics, predictions
+    peaks: dict[str, PeakModel]  # target -> the GP of its peak
     summary: dict[str, Any]  # the stage's metrics
     wall: float  # seconds
 
@@ -35,11 +42,14 @@ def train_all(
     data: TrainingData,
     *,
     warm_start: Mapping[str, dict[str, np.ndarray]] | None = None,
+    peaks_from: Mapping[str, PeakModel] | None = None,
 ) -> Training:
-    """Train the multi-output model with every loss, on the same split and seed.
+    """Train the multi-output model with every loss, on the same split and seed, then the peak
+    models.
 
     ``warm_start`` maps each loss to the state dict its model fine-tunes from (every loss must be
-    there); without it every model starts from its seeded initialisation.
+    there); without it every model starts from its seeded initialisation. ``peaks_from``: peak
+    models refitted on ``data`` with their hyperparameters (fine-tuning) instead of fitted anew.
     """
     cfg = params.train
     jobs = [{"kind": k, "seed": seed_for(params.search_seed, "train", 0)} for k in cfg.losses]
@@ -49,7 +59,12 @@ def train_all(
                 raise DataError("warm start", f"no weights for the {job['kind']} loss")
             job["warm_start"] = warm_start[job["kind"]]
     started = time.perf_counter()
-    results = run_jobs(jobs, data, cfg)
+    # the GPs fit in a process of their own beside the GRUs (one core each: a GRU this size
+    # gains nothing from a second thread, so the GP fit costs no wall time)
+    with ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("fork")) as pool:
+        peaks_job = pool.submit(_fit_peaks_alone, data, cfg.peaks, dict(peaks_from or {}))
+        results = run_jobs(jobs, data, cfg)
+        peaks = peaks_job.result()
     wall = time.perf_counter() - started
     summary: dict[str, Any] = {
         r["kind"]: {
@@ -63,8 +78,68 @@ def train_all(
         for r in results
     }
     summary["trained_targets"] = list(data.trained)
+    use = next(r for r in results if r["kind"] == cfg.use)
+    summary["peaks"] = {n: peak_metrics(m, data, use) for n, m in peaks.items()}
+    summary["peaks_not_fitted"] = [n for n in cfg.peaks if n not in peaks]
     summary["wall_seconds"] = round(wall, 2)
-    return Training(results, summary, wall)
+    return Training(results, peaks, summary, wall)
+
+
+def fit_peaks(
+    data: TrainingData, names: list[str], previous: Mapping[str, PeakModel]
+) -> dict[str, PeakModel]:
+    """The GP of each named target's peak on the training split's control values (the rows that
+    have both); refitted from ``previous`` where it has the target. A target with fewer than
+    :data:`MIN_PEAK_ROWS` such rows (a dataset of imported logs, which have no control values)
+    gets none: its peak stays the GRU's series maximum, and the summary says so."""
+    X = data.decisions("train")
+    out = {}
+    for name in names:
+        y = data.peaks("train", name) if name in data.trained else np.full(len(X), np.nan)
+        rows = np.isfinite(y) & np.isfinite(X).all(axis=1)
+        if rows.sum() < MIN_PEAK_ROWS:
+            continue
+        if name in previous:
+            out[name] = previous[name].refit(X[rows], y[rows])
+        else:
+            out[name] = fit_peak_model(name, X[rows], y[rows])
+    return out
+
+
+def _fit_peaks_alone(
+    data: TrainingData, names: list[str], previous: dict[str, PeakModel]
+) -> dict[str, PeakModel]:
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1):
+        return fit_peaks(data, names, previous)
+
+
+def peak_metrics(model: PeakModel, data: TrainingData, use: dict[str, Any]) -> dict[str, Any]:
+    """A peak model's validation errors beside the ``use`` GRU's series maximum, and what it
+    learnt: the length scale of each control value (in standard deviations; small = matters)."""
+    k = TARGETS.index(model.target)
+    truth = data.peaks("validation", model.target)
+    X = data.decisions("validation")
+    rows = np.isfinite(truth) & np.isfinite(X).all(axis=1)
+    gru = use["val_pred"][..., k].max(axis=-1)
+
+    def errors(pred: np.ndarray) -> dict[str, float]:
+        e = np.abs(pred[rows] - truth[rows])
+        varied = rows.sum() >= 3 and np.ptp(pred[rows]) > 0 and np.ptp(truth[rows]) > 0
+        rho = spearmanr(pred[rows], truth[rows]).statistic if varied else np.nan
+        return {
+            "n": int(rows.sum()),
+            "peak_error_median": float(np.median(e)) if e.size else np.nan,
+            "peak_error_p90": float(np.percentile(e, 90)) if e.size else np.nan,
+            "spearman": float(rho),
+        }
+
+    return {
+        "gp": errors(model(np.nan_to_num(X))),
+        "gru": errors(gru),
+        "length_scales": dict(zip(DECISION_NAMES, model.length_scale.tolist(), strict=True)),
+    }
 
 
 def run_jobs(jobs: list[dict], data: TrainingData, cfg: Train) -> list[dict]:
@@ -161,6 +236,15 @@ def track(
         mlflow.log_input(dataset_input, context="training")
         mlflow.log_params(flat)
         mlflow.log_metric("wall_seconds", run.summary["wall_seconds"])
+        mlflow.log_metrics(
+            {
+                f"peak_{target}_{model}_{k}": v
+                for target, entry in run.summary["peaks"].items()
+                for model in ("gp", "gru")
+                for k, v in entry[model].items()
+                if v == v
+            }
+        )
         for path in figures:
             mlflow.log_artifact(str(path), artifact_path="figures")
         for r in run.results:
@@ -183,7 +267,9 @@ def track(
                     pip_requirements=requirements,
                     serialization_format="pickle",
                     registered_model_name=name,
-                    extra_files=[str(out / weights_file(r["kind"]))],
+                    extra_files=[
+                        str(p) for p in (out / weights_file(r["kind"]), out / PEAKS) if p.exists()
+                    ],
                 )
                 if r["kind"] == cfg.use:
                     mlflow.MlflowClient().set_registered_model_alias(

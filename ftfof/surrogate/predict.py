@@ -13,8 +13,8 @@ float32 is the precision the models were trained in; series come back as float64
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from dataclasses import dataclass
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
@@ -22,6 +22,7 @@ from numpy.typing import NDArray
 from ftfof.data.dataset import Normalization
 from ftfof.data.targets import time_base
 from ftfof.surrogate.gru_kernel import Layer
+from ftfof.surrogate.peaks import PeakModel
 
 Array = NDArray[np.float64]
 
@@ -66,7 +67,9 @@ class Surrogate:
 
     ``targets`` names the model's outputs in order; ``trained`` those the training data supplied
     (a target no training sample had, e.g. the film channel of an older acquisition, is untrained
-    and must not be read as a prediction).
+    and must not be read as a prediction). ``peaks``: target -> the GP of its peak on the control
+    values (:mod:`ftfof.surrogate.peaks`); such a target's series keeps the GRU's shape, scaled
+    so that its maximum is the GP's.
     """
 
     model: GRUWeights
@@ -75,6 +78,7 @@ class Surrogate:
     normalization: Normalization
     seq_len: int
     hold: float
+    peaks: Mapping[str, PeakModel] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if self.model.outputs != len(self.targets):
@@ -93,14 +97,34 @@ class Surrogate:
         )
 
     def predict(
-        self, position: Array, velocity: Array, names: Sequence[str] | None = None
+        self,
+        position: Array,
+        velocity: Array,
+        names: Sequence[str] | None = None,
+        decisions: Array | None = None,
     ) -> dict[str, Array]:
         """Target name -> (pop, N) series for trajectories sampled at :meth:`time_base`; every
-        trained target unless ``names`` says which."""
+        trained target unless ``names`` says which. ``decisions``: the trajectories' (pop, 12)
+        control values, which the peak models read (required when one is asked for)."""
         names = self.trained if names is None else tuple(names)
         untrained = [n for n in names if n not in self.trained]
         if untrained:
             raise ValueError(f"the surrogate was not trained on {untrained} (has {self.trained})")
+        peaked = [n for n in names if n in self.peaks]
+        if peaked and decisions is None:
+            raise ValueError(f"the peaks of {peaked} come from the control values: pass decisions")
         y = self.model(self.features(position, velocity))
         scale = self.normalization.target_scale
-        return {n: y[..., self.targets.index(n)] * scale[self.targets.index(n)] for n in names}
+        series = {n: y[..., self.targets.index(n)] * scale[self.targets.index(n)] for n in names}
+        for n in peaked:
+            series[n] = with_peak(series[n], self.peaks[n](decisions))
+        return series
+
+
+def with_peak(series: Array, peak: Array) -> Array:
+    """(pop, N) ``series`` scaled so that each row's maximum is ``peak`` (pop,): the shape of one
+    model, the level of another. A row that is 0 throughout has no shape: it becomes the peak."""
+    top = np.max(series, axis=-1, keepdims=True)
+    peak = np.asarray(peak, dtype=float)[..., None]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(top > 0, series * (peak / top), peak)

@@ -2,8 +2,9 @@
 is defined here once, by its writer and its reader side by side.
 
 A model directory holds one state dict per loss (``torch.load(weights_only=True)``), each a
-multi-output GRU over every target of :mod:`ftfof.data.targets`, ``normalization.json`` and
-``config.json`` (which targets the training data supplied); it is written whole or not at all.
+multi-output GRU over every target of :mod:`ftfof.data.targets`, ``normalization.json``,
+``config.json`` (which targets the training data supplied) and, where asked for, ``peaks.json``
+(the GPs of some targets' peaks, :mod:`ftfof.surrogate.peaks`); it is written whole or not at all.
 """
 
 from __future__ import annotations
@@ -23,9 +24,12 @@ from ftfof.data import dataset
 from ftfof.errors import DataError
 from ftfof.pipeline.digests import bytes_sha256
 from ftfof.pipeline.io import atomic_dir, read_table
+from ftfof.surrogate.peaks import PeakModel
 from ftfof.surrogate.predict import GRUWeights, Surrogate
+from ftfof.trajectory.bezier import DECISION_NAMES
 
 FILE = "samples.parquet"
+PEAKS = "peaks.json"
 TARGETS = dataset.TARGETS
 
 
@@ -77,6 +81,18 @@ class TrainingData:
         """(n, N, K) normalised targets, NaN where a sample does not supply one."""
         return self._arrays[split][1]
 
+    def decisions(self, split: str) -> np.ndarray:
+        """(n, 12) control values of the split's samples (NaN for a log, which has none)."""
+        rows = np.asarray(self.table.column("split").to_pylist()) == split
+        return np.column_stack(
+            [self.table.column(n).to_numpy()[rows] for n in DECISION_NAMES]
+        ).astype(float)
+
+    def peaks(self, split: str, target: str) -> np.ndarray:
+        """(n,) the maximum of one target's series, in its unit (NaN where not supplied)."""
+        k = TARGETS.index(target)
+        return np.max(self.targets(split)[..., k], axis=-1) * self.target_scale[k]
+
 
 def read_dataset(directory: Path) -> TrainingData:
     path = directory / FILE
@@ -97,11 +113,21 @@ def read_dataset(directory: Path) -> TrainingData:
     return TrainingData(table, norm, meta["seq_len"], meta["hold"], digest)
 
 
-def write_models(out: Path, results: list[dict[str, Any]], data: TrainingData, cfg: Train) -> None:
-    """State dicts of the trained ``results``, normalisation and config, all or nothing."""
+def write_models(
+    out: Path,
+    results: list[dict[str, Any]],
+    data: TrainingData,
+    cfg: Train,
+    peaks: dict[str, PeakModel],
+) -> None:
+    """State dicts of the trained ``results``, normalisation, peak models and config, all or
+    nothing."""
     import torch
 
     with atomic_dir(out) as tmp:
+        if peaks:
+            text = json.dumps({n: m.as_dict() for n, m in sorted(peaks.items())})
+            (tmp / PEAKS).write_text(text + "\n")
         for r in results:
             state = {k: torch.from_numpy(v) for k, v in r["state"].items()}
             torch.save(state, tmp / weights_file(r["kind"]))
@@ -118,6 +144,7 @@ def write_models(out: Path, results: list[dict[str, Any]], data: TrainingData, c
             "trained": list(data.trained),
             "losses": list(cfg.losses),
             "use": cfg.use,
+            "peaks": sorted(peaks),
             "seq_len": data.seq_len,
             "hold": data.hold,
             "dataset": data.metadata_digest,
@@ -172,4 +199,19 @@ def load_surrogate(
         norm,
         config["seq_len"],
         config["hold"],
+        _load_peaks(directory, config),
     )
+
+
+def _load_peaks(directory: Path, config: dict[str, Any]) -> dict[str, PeakModel]:
+    """The peak models ``config.json`` lists (none for models trained without them)."""
+    names = config.get("peaks", [])
+    if not names:
+        return {}
+    path = directory / PEAKS
+    if not path.exists():
+        raise DataError(str(path), f"missing: config.json lists peak models of {names}")
+    saved = json.loads(path.read_text())
+    if sorted(saved) != sorted(names):
+        raise DataError(str(path), f"holds peak models of {sorted(saved)}, config lists {names}")
+    return {n: PeakModel.from_dict(saved[n]) for n in names}

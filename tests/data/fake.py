@@ -80,4 +80,10 @@ def fake_acquisition(n: int = 40, failed: int = 2, with_film: bool = True) -> pa
     results += [
         fake_result(f"baseline:{b}:0", f"baseline:{b}", 0, 7.0) for b in ("polynomial", "cycloidal")
     ]
-    return to_table(results, "mst_m3f", "acrylic", {}, 1.0, with_wall_time=False)
+    # control values of a plausible size, one draw per sample (the baselines have none)
+    controls = {
+        r.key: np.random.default_rng(r.sample_id).uniform(0.0, 0.06, 12)
+        for r in results
+        if r.source == "sampled"
+    }
+    return to_table(results, "mst_m3f", "acrylic", controls, 1.0, with_wall_time=False)

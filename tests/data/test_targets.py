@@ -1,8 +1,11 @@
 """Target series: each on its window, binned so the objectives read the full-rate values."""
 
+from typing import get_args
+
 import numpy as np
 import pytest
 
+from ftfof.config import Target
 from ftfof.data import targets
 from ftfof.objectives import JITTER_SIGMAS, jitter_exceedance
 from tests.data.fake import SWITCH, fake_channels, film_clearance, film_curvature
@@ -153,3 +156,7 @@ def test_the_retouch_constraint_refuses_what_the_release_verdict_refuses():
         g = pad_retouch(targets.binned(record, T3, HOLD, N, landing_start=0.6)["retouch"], 0.5)
         fault = release_fault(t, bonds, SWITCH, 0.05, 0.009, 0.6)
         assert (g > 0) == refused == fault.startswith("the pad touched the wall again")
+
+
+def test_the_settings_name_every_target_in_order():
+    assert get_args(Target) == targets.TARGETS

@@ -1,0 +1,160 @@
+"""Gaussian-process models of a target's peak, straight from the trajectory's control values.
+
+Two objectives read one number of a series: fs3 the landing press's peak (max ``Fp``) and fs7
+eq. 16's total (max of the ``jitter`` running sum). The GRU predicts the whole series, and its
+maximum carries the series model's error at every step. A GP with one length scale per control
+value (ARD) learns the number itself from the 12 values that fix the trajectory, and learns which
+of them matter (the landing press: the adhesion segment's last control points). On the paper-scale
+acquisition's validation split it predicts the landing peak to 0.035 N median (GRU: 0.11 N) and
+fs7 to 1.9 (GRU: 4.2); docs/surrogates.md has the table. It is no better on the pull or the body
+acceleration, which keep the GRU's.
+
+The surrogate keeps the GRU's series shape and scales it to the GP's peak
+(:meth:`ftfof.surrogate.predict.Surrogate.predict`), so every reader of the series (the objective,
+the landing constraint, the report's plots) sees one prediction.
+
+Fitting uses scikit-learn's ``GaussianProcessRegressor`` (hyperparameters by maximum marginal
+likelihood); the fitted model is kept as plain arrays (no pickle) and predicts in NumPy, a
+(pop, n_train) kernel product per population. Refinement refits it on the grown data with the
+hyperparameters it has (a solve, no search), so the rounds' new rows count at once.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass, field, fields
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.linalg import cho_factor, cho_solve
+
+Array = NDArray[np.float64]
+
+JITTER = 1e-10  # scikit-learn's default ``alpha``: added to the kernel's diagonal in a fit
+
+
+@dataclass(frozen=True)
+class PeakModel:
+    """A fitted GP: control values (pop, d) -> the peak of one target (pop,), >= 0."""
+
+    target: str
+    input_mean: Array  # (d,)
+    input_scale: Array  # (d,)
+    length_scale: Array  # (d,), per normalised control value
+    amplitude: float  # signal variance, in normalised target units
+    noise: float  # white-noise variance, in normalised target units
+    y_mean: float
+    y_scale: float
+    train_inputs: Array = field(repr=False)  # normalised, (n, d)
+    weights: Array = field(repr=False)  # ((K + noise I)^-1 y, 1): the last multiplies the mean
+
+    def __call__(self, decisions: Array) -> Array:
+        scaled = self._scaled(decisions)
+        return np.maximum(self._kernel(scaled) @ self.weights, 0.0)
+
+    def _scaled(self, decisions: Array) -> Array:
+        X = np.atleast_2d(np.asarray(decisions, dtype=float))
+        if X.shape[-1] != self.input_mean.size:
+            raise ValueError(
+                f"the {self.target} peak model takes {self.input_mean.size} control values, "
+                f"got {X.shape[-1]}"
+            )
+        return (X - self.input_mean) / self.input_scale
+
+    def _kernel(self, scaled: Array) -> Array:
+        """y_scale x the covariance with the training inputs, and a column of the mean:
+        ``@ weights`` is the prediction in the target's unit."""
+        k = self._covariance(scaled, self.train_inputs)
+        return np.column_stack([k * self.y_scale, np.full(len(scaled), self.y_mean)])
+
+    def _covariance(self, a: Array, b: Array) -> Array:
+        """amplitude x the ARD RBF between normalised rows ``a`` and ``b``."""
+        a, b = a / self.length_scale, b / self.length_scale
+        d2 = (a**2).sum(-1)[:, None] + (b**2).sum(-1)[None, :] - 2.0 * a @ b.T
+        return self.amplitude * np.exp(-0.5 * np.maximum(d2, 0.0))
+
+    def refit(self, decisions: Array, peaks: Array) -> PeakModel:
+        """The same GP (length scales, amplitude, noise, normalisation) on other data."""
+        X = self._scaled(decisions)
+        y = (np.asarray(peaks, dtype=float) - self.y_mean) / self.y_scale
+        K = self._covariance(X, X)
+        K[np.diag_indices_from(K)] += self.noise + JITTER
+        alpha = cho_solve(cho_factor(K, lower=True), y)
+        return _model(self.target, self, X, alpha)
+
+    def as_dict(self) -> dict:
+        """JSON-ready: arrays as (nested) lists."""
+        return {
+            f.name: v.tolist() if isinstance(v := getattr(self, f.name), np.ndarray) else v
+            for f in fields(self)
+        }
+
+    @classmethod
+    def from_dict(cls, data: dict) -> PeakModel:
+        scalars = ("target", "amplitude", "noise", "y_mean", "y_scale")
+        return cls(
+            **{
+                k: v
+                if k in scalars
+                else np.asarray(v, dtype=float).reshape(
+                    (-1, len(data["input_mean"])) if k == "train_inputs" else -1
+                )
+                for k, v in data.items()
+            }
+        )
+
+
+def _model(target: str, like: PeakModel, X: Array, alpha: Array) -> PeakModel:
+    return PeakModel(
+        target=target,
+        input_mean=like.input_mean,
+        input_scale=like.input_scale,
+        length_scale=like.length_scale,
+        amplitude=like.amplitude,
+        noise=like.noise,
+        y_mean=like.y_mean,
+        y_scale=like.y_scale,
+        train_inputs=X,
+        weights=np.append(alpha, 1.0),
+    )
+
+
+def fit_peak_model(target: str, decisions: Array, peaks: Array) -> PeakModel:
+    """A GP of ``peaks`` on ``decisions`` (rows with a finite peak), hyperparameters by maximum
+    marginal likelihood from one deterministic start (length scales 1 on standardised inputs)."""
+    from sklearn.exceptions import ConvergenceWarning
+    from sklearn.gaussian_process import GaussianProcessRegressor
+    from sklearn.gaussian_process.kernels import RBF, ConstantKernel, WhiteKernel
+
+    X = np.asarray(decisions, dtype=float)
+    y = np.asarray(peaks, dtype=float)
+    keep = np.isfinite(y) & np.isfinite(X).all(axis=1)
+    if keep.sum() < 3:
+        raise ValueError(f"{keep.sum()} rows supply the {target} peak: a GP needs at least 3")
+    X, y = X[keep], y[keep]
+    mean = X.mean(axis=0)
+    scale = np.where(X.std(axis=0) > 0, X.std(axis=0), 1.0)
+    kernel = ConstantKernel(1.0, (1e-3, 1e3)) * RBF(np.ones(X.shape[1]), (1e-2, 1e5)) + WhiteKernel(
+        1e-2, (1e-6, 1.0)
+    )
+    gp = GaussianProcessRegressor(kernel, normalize_y=True, alpha=JITTER)
+    with warnings.catch_warnings():
+        # a control value the peak does not depend on takes the length scale's upper bound:
+        # that is the answer ARD gives (irrelevant), not a failed fit
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        gp.fit((X - mean) / scale, y)
+    fitted = gp.kernel_.get_params()
+    y_scale = float(gp._y_train_std) if gp._y_train_std > 0 else 1.0
+    like = PeakModel(
+        target=target,
+        input_mean=mean,
+        input_scale=scale,
+        length_scale=np.broadcast_to(fitted["k1__k2__length_scale"], mean.shape).astype(float),
+        amplitude=float(fitted["k1__k1__constant_value"]),
+        noise=float(fitted["k2__noise_level"]),
+        y_mean=float(gp._y_train_mean),
+        y_scale=y_scale,
+        train_inputs=np.empty((0, mean.size)),
+        weights=np.empty(0),
+    )
+    return _model(target, like, (X - mean) / scale, np.asarray(gp.alpha_, dtype=float))

@@ -30,6 +30,9 @@ Strategy = Literal[Objective, "fs6"]  # every strategy function (FTFOF §V.A)
 Loss = Literal["dilate", "mse"]
 # the surrogates' target series (ftfof.data.targets.TARGETS, in its order)
 Target = Literal["pull", "Fd", "Fp", "jitter", "body_acc", "curvature", "clearance", "retouch"]
+# those only ever read by their maximum, which a peak GP may set (pull and Fd: fs2 reads their
+# mean; clearance: the swing gap reads its dip)
+PeakTarget = Literal["Fp", "jitter", "body_acc", "curvature", "retouch"]
 Baseline = Literal["polynomial", "cycloidal", "random_bezier", "eps_bezier"]
 Design = Literal["sobol", "lhs"]
 
@@ -365,7 +368,7 @@ class Train(Strict):
     # targets whose peak a GP predicts from the 12 control values (ftfof/surrogate/peaks.py);
     # the series keeps the GRU's shape, scaled to the GP's peak. fs3's landing press and fs7's
     # total: the GP's validation error is a third and a half of the GRU's (docs/surrogates.md)
-    peaks: Annotated[list[Target], AfterValidator(_distinct)] = ["Fp", "jitter"]
+    peaks: Annotated[list[PeakTarget], AfterValidator(_distinct)] = ["Fp", "jitter"]
 
     @model_validator(mode="after")
     def _use_is_trained(self) -> Train:

@@ -15,7 +15,7 @@ from pathlib import Path
 
 from ftfof.errors import DataError
 from ftfof.pipeline.digests import file_sha256
-from ftfof.surrogate.store import weights_file
+from ftfof.surrogate.store import PEAKS, weights_file
 
 
 def model_name(robot: str, loss: str) -> str:
@@ -41,8 +41,8 @@ def fetch_model(
     mlflow, robot: str, loss: str, alias: str, models_dir: Path, into: Path | None = None
 ) -> RegisteredWeights:
     """Resolve ``models:/ftfof-<robot>-<loss>@<alias>`` and download its weights, which must be
-    byte-identical to the file DVC tracks in ``models_dir``, so the registry and the pipeline
-    cannot disagree about which surrogate a search used."""
+    byte-identical to the file DVC tracks in ``models_dir`` (and so must its peak models), so the
+    registry and the pipeline cannot disagree about which surrogate a search used."""
     from mlflow.exceptions import MlflowException
 
     client = mlflow.MlflowClient()
@@ -61,10 +61,13 @@ def fetch_model(
     tracked = models_dir / weights_file(loss)
     if not path.is_file():
         raise DataError(uri, f"model version {version.version} carries no {path.name}")
-    if not tracked.is_file() or file_sha256(path) != file_sha256(tracked):
-        raise DataError(
-            uri,
-            f"version {version.version} differs from {tracked} "
-            "(models trained elsewhere? re-run `ftfof train`)",
-        )
+    for carried, kept in ((path, tracked), (path.parent / PEAKS, models_dir / PEAKS)):
+        if carried.is_file() != kept.is_file() or (
+            kept.is_file() and file_sha256(carried) != file_sha256(kept)
+        ):
+            raise DataError(
+                uri,
+                f"version {version.version} differs from {kept} "
+                "(models trained elsewhere? re-run `ftfof train`)",
+            )
     return RegisteredWeights(name, str(version.version), version.run_id, path)

@@ -59,12 +59,17 @@ def train_all(
                 raise DataError("warm start", f"no weights for the {job['kind']} loss")
             job["warm_start"] = warm_start[job["kind"]]
     started = time.perf_counter()
-    # the GPs fit in a process of their own beside the GRUs (one core each: a GRU this size
-    # gains nothing from a second thread, so the GP fit costs no wall time)
-    with ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("fork")) as pool:
-        peaks_job = pool.submit(_fit_peaks_alone, data, cfg.peaks, dict(peaks_from or {}))
+    previous = dict(peaks_from or {})
+    if cfg.parallel and cfg.peaks and not previous:
+        # a fit in a process of its own beside the GRUs (one core each: a GRU this size gains
+        # nothing from a second thread, so the fit costs no wall time); a refit is a solve
+        with ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("fork")) as pool:
+            peaks_job = pool.submit(_fit_peaks_alone, data, cfg.peaks, previous)
+            results = run_jobs(jobs, data, cfg)
+            peaks = peaks_job.result()
+    else:
         results = run_jobs(jobs, data, cfg)
-        peaks = peaks_job.result()
+        peaks = fit_peaks(data, cfg.peaks, previous)
     wall = time.perf_counter() - started
     summary: dict[str, Any] = {
         r["kind"]: {

@@ -119,12 +119,20 @@ def _model(target: str, like: PeakModel, X: Array, alpha: Array) -> PeakModel:
     )
 
 
+def peak_kernel(d: int):
+    """constant x ARD RBF + white noise over ``d`` standardised control values, on a target
+    standardised to mean 0 and variance 1: the start (1, 1 each, 0.01) and the bounds."""
+    from sklearn.gaussian_process.kernels import RBF, ConstantKernel, WhiteKernel
+
+    signal = ConstantKernel(1.0, (1e-3, 1e3)) * RBF(np.ones(d), (1e-2, 1e5))
+    return signal + WhiteKernel(1e-2, (1e-6, 1.0))
+
+
 def fit_peak_model(target: str, decisions: Array, peaks: Array) -> PeakModel:
     """A GP of ``peaks`` on ``decisions`` (rows with a finite peak), hyperparameters by maximum
     marginal likelihood from one deterministic start (length scales 1 on standardised inputs)."""
     from sklearn.exceptions import ConvergenceWarning
     from sklearn.gaussian_process import GaussianProcessRegressor
-    from sklearn.gaussian_process.kernels import RBF, ConstantKernel, WhiteKernel
 
     X = np.asarray(decisions, dtype=float)
     y = np.asarray(peaks, dtype=float)
@@ -134,17 +142,15 @@ def fit_peak_model(target: str, decisions: Array, peaks: Array) -> PeakModel:
     X, y = X[keep], y[keep]
     mean = X.mean(axis=0)
     scale = np.where(X.std(axis=0) > 0, X.std(axis=0), 1.0)
-    kernel = ConstantKernel(1.0, (1e-3, 1e3)) * RBF(np.ones(X.shape[1]), (1e-2, 1e5)) + WhiteKernel(
-        1e-2, (1e-6, 1.0)
-    )
-    gp = GaussianProcessRegressor(kernel, normalize_y=True, alpha=JITTER)
+    y_mean = float(y.mean())
+    y_scale = float(y.std()) if y.std() > 0 else 1.0
+    gp = GaussianProcessRegressor(peak_kernel(X.shape[1]), alpha=JITTER)
     with warnings.catch_warnings():
         # a control value the peak does not depend on takes the length scale's upper bound:
         # that is the answer ARD gives (irrelevant), not a failed fit
         warnings.simplefilter("ignore", ConvergenceWarning)
-        gp.fit((X - mean) / scale, y)
+        gp.fit((X - mean) / scale, (y - y_mean) / y_scale)
     fitted = gp.kernel_.get_params()
-    y_scale = float(gp._y_train_std) if gp._y_train_std > 0 else 1.0
     like = PeakModel(
         target=target,
         input_mean=mean,
@@ -152,7 +158,7 @@ def fit_peak_model(target: str, decisions: Array, peaks: Array) -> PeakModel:
         length_scale=np.broadcast_to(fitted["k1__k2__length_scale"], mean.shape).astype(float),
         amplitude=float(fitted["k1__k1__constant_value"]),
         noise=float(fitted["k2__noise_level"]),
-        y_mean=float(gp._y_train_mean),
+        y_mean=y_mean,
         y_scale=y_scale,
         train_inputs=np.empty((0, mean.size)),
         weights=np.empty(0),

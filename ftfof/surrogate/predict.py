@@ -113,6 +113,11 @@ class Surrogate:
         peaked = [n for n in names if n in self.peaks]
         if peaked and decisions is None:
             raise ValueError(f"the peaks of {peaked} come from the control values: pass decisions")
+        if peaked and len(np.atleast_2d(decisions)) != len(position):
+            raise ValueError(
+                f"{len(np.atleast_2d(decisions))} rows of control values for "
+                f"{len(position)} trajectories"
+            )
         y = self.model(self.features(position, velocity))
         scale = self.normalization.target_scale
         series = {n: y[..., self.targets.index(n)] * scale[self.targets.index(n)] for n in names}

@@ -68,6 +68,14 @@ def fake_result(
     return r
 
 
+def fake_controls(sample_id: int, peak: float) -> np.ndarray:
+    """12 control values of a plausible size, one draw per sample; the first sets the pull's
+    peak (10 mm per N), so a model of the peaks has something to learn."""
+    X = np.random.default_rng(sample_id).uniform(0.0, 0.06, 12)
+    X[0] = 0.01 * peak
+    return X
+
+
 def fake_acquisition(n: int = 40, failed: int = 2, with_film: bool = True) -> pa.Table:
     peaks = [3 + i % 5 for i in range(n)]
     results = [
@@ -80,10 +88,6 @@ def fake_acquisition(n: int = 40, failed: int = 2, with_film: bool = True) -> pa
     results += [
         fake_result(f"baseline:{b}:0", f"baseline:{b}", 0, 7.0) for b in ("polynomial", "cycloidal")
     ]
-    # control values of a plausible size, one draw per sample (the baselines have none)
-    controls = {
-        r.key: np.random.default_rng(r.sample_id).uniform(0.0, 0.06, 12)
-        for r in results
-        if r.source == "sampled"
-    }
+    sampled = zip(results[:n], peaks, strict=True)  # the failed and baselines have none
+    controls = {r.key: fake_controls(r.sample_id, p) for r, p in sampled}
     return to_table(results, "mst_m3f", "acrylic", controls, 1.0, with_wall_time=False)

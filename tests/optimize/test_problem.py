@@ -7,6 +7,7 @@ import pytest
 
 from ftfof.data.release import swing_gap
 from ftfof.optimize.problem import PhysicalLimits, TrajectoryProblem
+from ftfof.surrogate.peaks import fit_peak_model
 from ftfof.trajectory.sampling import sample_feasible
 
 
@@ -125,3 +126,27 @@ def test_a_robot_asks_for_the_landing_press_and_the_retouch_only_where_it_sets_t
     assert limits.asked() == ("film_safety", "pad_clearance")
     both = dataclasses.replace(limits, landing_tolerance=0.1, retouch_allowed=0.5)
     assert both.asked() == ("film_safety", "pad_clearance", "pad_retouch", "landing_press")
+
+
+def test_the_peak_models_set_fs3_fs7_and_the_landing_limit(m3f, surrogate):
+    """The search reads the GP's landing peak and eq. 16 total of each candidate's own control
+    values (fs3 = |GP - a|), and the series keeps the GRU's shape."""
+    policy = m3f.policy
+    rng = np.random.default_rng(4)
+    X = sample_feasible(policy, 30, seed=7).X
+    peaks = {
+        "Fp": fit_peak_model("Fp", X, 4.0 + 20.0 * X[:, 11] + rng.normal(0, 0.01, 30)),
+        "jitter": fit_peak_model("jitter", X, 30.0 * X[:, 3]),
+    }
+    with_gps = dataclasses.replace(surrogate, peaks=peaks)
+    free = policy.contract(X[:6])
+    result = _problem(m3f, with_gps, ["fs3", "fs7", "fs1"]).evaluate_population(free)
+    a = m3f.robot.pre_pressure
+    np.testing.assert_allclose(result.F[:, 0], np.abs(peaks["Fp"](X[:6]) - a))
+    np.testing.assert_allclose(result.F[:, 1], peaks["jitter"](X[:6]))
+    landing = np.abs(peaks["Fp"](X[:6]) - a) / (m3f.robot.landing_tolerance * a) - 1
+    np.testing.assert_allclose(result.physical["landing_press"], landing)
+    plain = _problem(m3f, surrogate, ["fs3", "fs7", "fs1"]).evaluate_population(free)
+    np.testing.assert_allclose(result.F[:, 2], plain.F[:, 2])  # the pull keeps the GRU's
+    shape = plain.series["Fp"] / plain.series["Fp"].max(1, keepdims=True)
+    np.testing.assert_allclose(result.series["Fp"], shape * peaks["Fp"](X[:6])[:, None])

@@ -149,17 +149,20 @@ def test_an_alias_missing_from_the_registry_is_one_clear_error(trained):
     assert not out.exists() and not (tmp / "opt_no_alias_optimize.json").exists()
 
 
-def test_weights_that_differ_from_the_tracked_models_are_refused(trained, tmp_path):
+@pytest.mark.parametrize("changed", ["weights", "peaks.json"])
+def test_models_that_differ_from_the_registered_version_are_refused(trained, tmp_path, changed):
     import shutil
 
     tmp, uri, data = trained
     data = copy.deepcopy(data)
     data["optimize"] = {**data["optimize"], **TINY}
     shutil.copytree(tmp / "models", tmp_path / "models")
-    (tmp_path / "models" / f"surrogate_{data['train']['use']}.pt").write_bytes(b"not these")
-    result, out = _optimize(tmp_path, uri, data, "opt_stale")
+    name = f"surrogate_{data['train']['use']}.pt" if changed == "weights" else changed
+    (tmp_path / "models" / name).write_bytes(b"not these")
+    result, out = _optimize(tmp_path, uri, data, f"opt_stale_{changed}")
     assert result.exit_code != 0
-    assert "differs from" in result.output and "re-run `ftfof train`" in result.output
+    assert "differs from" in result.output and name in result.output.replace("\n", "")
+    assert "re-run `ftfof train`" in result.output
     assert not out.exists()
 
 

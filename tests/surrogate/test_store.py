@@ -53,6 +53,8 @@ def test_written_models_load_as_the_surrogate_they_were(tmp_path: Path, params):
     np.testing.assert_allclose(surrogate.model(x), want, rtol=1e-4, atol=1e-5)
     with pytest.raises(ValueError, match=r"peaks of \['Fp'\] come from the control values"):
         surrogate.predict(x[..., :2], x[..., 2:])
+    with pytest.raises(ValueError, match="1 rows of control values for 3 trajectories"):
+        surrogate.predict(x[..., :2], x[..., 2:], decisions=decisions[:1])
     # features with mean 0, scale 1; Fp takes the GRU's shape and the GP's peak
     series = surrogate.predict(x[..., :2], x[..., 2:], decisions=decisions[:3])
     assert set(series) == set(trained)

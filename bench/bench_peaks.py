@@ -1,0 +1,62 @@
+"""What the peak GPs add to one population's surrogate evaluation (the optimiser's hot path).
+
+Baseline: the GRU pass alone (the surrogate without its peak models), in the same process, on
+the same population; then the same with the peak models, and the GP prediction alone. Also the
+refit a refine round does (one Cholesky solve per GP on the grown data).
+
+Run: python bench/bench_peaks.py [population]   (default 200, the paper's)
+Needs the trained models in data/models (`dvc repro train`).
+"""
+
+from __future__ import annotations
+
+import sys
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from bench.common import best_of, row
+from ftfof.pipeline.params_file import load_params
+from ftfof.robot import robot_context
+from ftfof.surrogate.store import load_surrogate
+
+
+def main(population: int) -> None:
+    root = Path(__file__).resolve().parents[1]
+    params = load_params(root / "params.yaml")
+    policy = robot_context(params).policy
+    surrogate = load_surrogate(root / "data/models")
+    if not surrogate.peaks:
+        raise SystemExit("the models in data/models have no peak models (train.peaks)")
+    gru_only = replace(surrogate, peaks={})
+    rng = np.random.default_rng(0)
+    free = policy.lower + rng.random((population, policy.n_free)) * (policy.upper - policy.lower)
+    X = policy.expand(free)
+    on_base = policy.sample(X, surrogate.time_base(policy.timing.T3))
+    pos, vel = on_base.position, on_base.velocity
+    base = best_of(lambda: gru_only.predict(pos, vel), repeats=20)
+    both = best_of(lambda: surrogate.predict(pos, vel, decisions=X), repeats=20)
+    print(f"population {population}; peak models {sorted(surrogate.peaks)}")
+    print(row("GRU pass (baseline)", base, base))
+    print(row("GRU pass + peak GPs", both, base))
+    for name, model in surrogate.peaks.items():
+        print(
+            row(
+                f"{name} GP alone ({model.train_inputs.shape[0]} rows)",
+                best_of(lambda m=model: m(X), repeats=20),
+                base,
+            )
+        )
+    for name, model in surrogate.peaks.items():
+        Xt = model.train_inputs * model.input_scale + model.input_mean
+        grown = np.vstack([Xt, Xt[:150] + 1e-4])  # a refine run's 150 new rows
+        peaks = model(grown)
+        seconds = best_of(lambda m=model, g=grown, p=peaks: m.refit(g, p), repeats=3)
+        print(row(f"{name} refit on {len(grown)} rows", seconds, base))
+
+
+if __name__ == "__main__":
+    main(int(sys.argv[1]) if len(sys.argv) > 1 else 200)

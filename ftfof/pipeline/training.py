@@ -64,7 +64,7 @@ def train_all(
         # a fit in a process of its own beside the GRUs (one core each: a GRU this size gains
         # nothing from a second thread, so the fit costs no wall time); a refit is a solve
         with ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("fork")) as pool:
-            peaks_job = pool.submit(_fit_peaks_alone, data, cfg.peaks, previous)
+            peaks_job = pool.submit(fit_peaks, data, cfg.peaks, previous)
             results = run_jobs(jobs, data, cfg)
             peaks = peaks_job.result()
     else:
@@ -97,6 +97,17 @@ def fit_peaks(
     have both); refitted from ``previous`` where it has the target. A target with fewer than
     :data:`MIN_PEAK_ROWS` such rows (a dataset of imported logs, which have no control values)
     gets none: its peak stays the GRU's series maximum, and the summary says so."""
+    from threadpoolctl import threadpool_limits
+
+    # one BLAS thread: a multi-threaded Cholesky sums in another order on another core count,
+    # and a refit that differs in its last bits sent refinement's search elsewhere
+    with threadpool_limits(limits=1):
+        return _fit_peaks(data, names, previous)
+
+
+def _fit_peaks(
+    data: TrainingData, names: list[str], previous: Mapping[str, PeakModel]
+) -> dict[str, PeakModel]:
     X = data.decisions("train")
     out = {}
     for name in names:
@@ -109,15 +120,6 @@ def fit_peaks(
         else:
             out[name] = fit_peak_model(name, X[rows], y[rows])
     return out
-
-
-def _fit_peaks_alone(
-    data: TrainingData, names: list[str], previous: dict[str, PeakModel]
-) -> dict[str, PeakModel]:
-    from threadpoolctl import threadpool_limits
-
-    with threadpool_limits(limits=1):
-        return fit_peaks(data, names, previous)
 
 
 def peak_metrics(model: PeakModel, data: TrainingData, use: dict[str, Any]) -> dict[str, Any]:

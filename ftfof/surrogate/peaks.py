@@ -22,7 +22,7 @@ hyperparameters it has (a solve, no search), so the rounds' new rows count at on
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -80,7 +80,11 @@ class PeakModel:
         K = self._covariance(X, X)
         K[np.diag_indices_from(K)] += self.noise + JITTER
         alpha = cho_solve(cho_factor(K, lower=True), y)
-        return _model(self.target, self, X, alpha)
+        return self._on(X, alpha)
+
+    def _on(self, X: Array, alpha: Array) -> PeakModel:
+        """This GP's hyperparameters on normalised training inputs ``X`` with weights ``alpha``."""
+        return replace(self, train_inputs=X, weights=np.append(alpha, 1.0))
 
     def as_dict(self) -> dict:
         """JSON-ready: arrays as (nested) lists."""
@@ -102,21 +106,6 @@ class PeakModel:
                 for k, v in data.items()
             }
         )
-
-
-def _model(target: str, like: PeakModel, X: Array, alpha: Array) -> PeakModel:
-    return PeakModel(
-        target=target,
-        input_mean=like.input_mean,
-        input_scale=like.input_scale,
-        length_scale=like.length_scale,
-        amplitude=like.amplitude,
-        noise=like.noise,
-        y_mean=like.y_mean,
-        y_scale=like.y_scale,
-        train_inputs=X,
-        weights=np.append(alpha, 1.0),
-    )
 
 
 def peak_kernel(d: int):
@@ -163,4 +152,4 @@ def fit_peak_model(target: str, decisions: Array, peaks: Array) -> PeakModel:
         train_inputs=np.empty((0, mean.size)),
         weights=np.empty(0),
     )
-    return _model(target, like, (X - mean) / scale, np.asarray(gp.alpha_, dtype=float))
+    return like._on((X - mean) / scale, np.asarray(gp.alpha_, dtype=float))

@@ -11,10 +11,10 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.stats import spearmanr
 
 from ftfof.data import targets
 from ftfof.objectives import Evidence, strategy_values
+from ftfof.stats import rank_rho
 from ftfof.trajectory.policy import ConstraintPolicy
 
 Array = NDArray[np.float64]
@@ -80,9 +80,7 @@ def fidelity(names: Sequence[str], predicted: Array, simulated: Array) -> list[F
         error = np.abs(p - s)
         nonzero = np.abs(s) > 1e-12
         relative = np.median(error[nonzero] / np.abs(s[nonzero])) if nonzero.any() else np.nan
-        varied = len(p) >= 3 and np.ptp(p) > 0 and np.ptp(s) > 0
-        rho = float(spearmanr(p, s).statistic) if varied else float("nan")
-        out.append(Fidelity(name, len(p), float(error.mean()), float(relative), rho))
+        out.append(Fidelity(name, len(p), float(error.mean()), float(relative), rank_rho(p, s)))
     return out
 
 

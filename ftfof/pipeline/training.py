@@ -14,7 +14,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from scipy.stats import spearmanr
 
 from ftfof.config import Params, Train
 from ftfof.errors import DataError
@@ -22,6 +21,7 @@ from ftfof.pipeline import tracking
 from ftfof.pipeline.digests import models_digest
 from ftfof.pipeline.registry import model_name
 from ftfof.seeds import seed_for
+from ftfof.stats import rank_rho
 from ftfof.surrogate.peaks import PeakModel, fit_peak_model
 from ftfof.surrogate.store import PEAKS, TARGETS, TrainingData, weights_file
 from ftfof.trajectory.bezier import DECISION_NAMES
@@ -133,13 +133,11 @@ def peak_metrics(model: PeakModel, data: TrainingData, use: dict[str, Any]) -> d
 
     def errors(pred: np.ndarray) -> dict[str, float]:
         e = np.abs(pred[rows] - truth[rows])
-        varied = rows.sum() >= 3 and np.ptp(pred[rows]) > 0 and np.ptp(truth[rows]) > 0
-        rho = spearmanr(pred[rows], truth[rows]).statistic if varied else np.nan
         return {
             "n": int(rows.sum()),
             "peak_error_median": float(np.median(e)) if e.size else np.nan,
             "peak_error_p90": float(np.percentile(e, 90)) if e.size else np.nan,
-            "spearman": float(rho),
+            "spearman": rank_rho(pred[rows], truth[rows]),
         }
 
     return {

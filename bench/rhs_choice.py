@@ -1,8 +1,9 @@
 """How the simulated choice depends on RHS's alpha0 and on how many candidates are simulated,
 across runs that differ only in their seed (docs/rhs.md).
 
-Every recheck-passing member of each run's final front (``data/refine/optimize/front.parquet``
-at a git revision: a commit or a ``dvc exp`` ref, read through the DVC cache) is simulated once
+Every recheck-passing member of each run's final front, its nominees left out
+(``data/refine/optimize/front.parquet`` at a git revision: a commit or a ``dvc exp`` ref, read
+through the DVC cache) is simulated once
 with the pipeline's simulator check; then, for each alpha0 and candidate count, the choice
 ``optimize`` would make (RHS on the predictions ranks the candidates, RHS on the simulated
 objectives of those that pass chooses) is printed with its first three simulated objectives
@@ -23,6 +24,7 @@ import pandas as pd
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from ftfof.optimize.select import FRONT as FRONT_ORIGIN
 from ftfof.optimize.select import Verdict, verified_rhs
 from ftfof.pipeline.params_file import load_params
 from ftfof.pipeline.simcheck import simulator_check
@@ -50,7 +52,10 @@ def main(revs: list[str]) -> None:
     runs = []
     for rev in revs:
         front = front_at(root, rev)
-        rows = front.row[front.recheck_feasible].to_numpy()
+        members = front.recheck_feasible
+        if "origin" in front:  # refinement's nominees are not members of the front
+            members &= front.origin == FRONT_ORIGIN
+        rows = front.row[members].to_numpy()
         X = front[list(DECISION_NAMES)].to_numpy(float)
         verdicts = {v.row: v for v in check(list(rows), X[rows])}
         ok = sum(v.ok for v in verdicts.values())

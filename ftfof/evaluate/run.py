@@ -23,6 +23,7 @@ from ftfof.evaluate.export import ControllerTrajectory, ExportRateError, control
 from ftfof.evaluate.fidelity import Fidelity, fidelity, simulated_objectives
 from ftfof.evaluate.table import COLUMNS, PAPER_TABLE_I, PEAKS, TableRow, table_one
 from ftfof.kinematics.legs import build_leg
+from ftfof.optimize.select import FRONT
 from ftfof.robot import RobotContext
 from ftfof.sim.film import FilmLimit, film_limit
 from ftfof.surrogate.predict import Surrogate
@@ -57,9 +58,11 @@ class Inputs:
 
 
 def front_sample(inputs: Inputs, k: int) -> list[int]:
-    """``k`` front rows spread evenly along the priority-sorted front, the optimum left out."""
+    """``k`` front rows spread evenly along the priority-sorted front, the optimum and the
+    nominees (simulated before, not members of this front) left out."""
     front = inputs.front
-    rows = front.index[front.recheck_feasible & (front.index != inputs.optimum["front_row"])]
+    member = front.recheck_feasible & (front.origin == FRONT)
+    rows = front.index[member & (front.index != inputs.optimum["front_row"])]
     rows = rows.to_numpy()
     if k == 0 or rows.size == 0:
         return []
@@ -118,8 +121,7 @@ def front_members(
     """The re-simulated optimum and front members side by side: what each trades (pull, jitter,
     landing press), whether its film survives, its pad lets go and clears the wall, and it lands
     pressing within the robot's tolerance of a, so the choice can be judged in simulation."""
-    sims = df[df.source.isin([OPTIMUM, "front"])]
-    sims = sims.assign(first=sims.source != OPTIMUM).sort_values(["first", "sample_id"])
+    sims = simulated_rows(df)
     members = []
     for _, row in sims.iterrows():  # a few tens of rows, once per evaluation
         f = figures_of(row, timing.T3)
@@ -183,6 +185,13 @@ def judged_front(params: Params, ctx: RobotContext, df: pd.DataFrame) -> dict:
     )
 
 
+def simulated_rows(df: pd.DataFrame) -> pd.DataFrame:
+    """The re-simulated optimum, then the front members by row: the order of every per-member
+    result (:func:`front_members`, :func:`fidelity_of`)."""
+    sims = df[df.source.isin([OPTIMUM, "front"])]
+    return sims.assign(first=sims.source != OPTIMUM).sort_values(["first", "sample_id"])
+
+
 def channels(row: pd.Series) -> dict[str, np.ndarray]:
     """The full-rate channels the surrogate's targets are made of, as float arrays."""
     return {c: np.asarray(row[c], dtype=float) for c in CHANNELS}
@@ -193,8 +202,7 @@ def fidelity_of(
 ) -> tuple[list[Fidelity], np.ndarray, np.ndarray]:
     """Predicted (as the optimiser saw them) and simulated objectives; the optimum is row 0."""
     names = inputs.objectives
-    sims = df[df.source.isin([OPTIMUM, "front"])]
-    sims = sims.assign(first=sims.source != OPTIMUM).sort_values(["first", "sample_id"])
+    sims = simulated_rows(df)
     predicted = inputs.front.loc[sims.sample_id, names].to_numpy(dtype=float)
     X = sims[list(DECISION_NAMES)].to_numpy(dtype=float)
     simulated = simulated_objectives(

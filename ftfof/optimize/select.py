@@ -37,6 +37,24 @@ class Outcome:
     rhs_rows: np.ndarray  # the passing rows the simulator has not refused
     summary: dict[str, Any]  # the stage's metrics
     verdicts: list[Verdict] = field(default_factory=list)  # simulator checks, in RHS order
+    origin: list[str] = field(default_factory=list)  # per row: "front", or the nominee's origin
+
+
+FRONT = "front"  # the origin of the search's own front rows
+
+
+@dataclass(frozen=True)
+class Nominees:
+    """Trajectories the simulator has already run clean, put up for the simulator check beside
+    the surrogate's candidates (refinement's measured points): full decision rows (m) and where
+    each was simulated (e.g. ``refine:2``)."""
+
+    X: np.ndarray
+    origin: list[str]
+
+    def __post_init__(self) -> None:
+        if len(self.X) != len(self.origin):
+            raise ValueError(f"{len(self.X)} nominee rows but {len(self.origin)} origins")
 
 
 @dataclass(frozen=True)
@@ -65,6 +83,7 @@ def choose(
     result: SearchResult,
     models_digest: str,
     check: SimulatorCheck | None = None,
+    nominees: Nominees | None = None,
 ) -> Outcome:
     """Recheck the front on ``optimize.recheck_samples`` points; RHS among the rows that pass.
 
@@ -72,7 +91,9 @@ def choose(
     the first ``optimize.verify_candidates`` RHS candidates are re-simulated, those the simulator
     refuses (in any of its runs: the film bent below its limit, a pad that does not let go
     cleanly, a landing outside the robot's tolerance, a failed run) are dropped, and RHS chooses
-    among the rest on their simulated objectives (the mean over the runs).
+    among the rest on their simulated objectives (the mean over the runs). ``nominees`` join the
+    candidates as rows after the front's (predicted by the surrogates like them, for the record);
+    without a check they are left out: nothing would measure them against the front.
     """
     cfg = params.optimize
     policy = ctx.policy
@@ -93,6 +114,11 @@ def choose(
         )
     order = np.lexsort(result.F.T[::-1])  # priority order: first objective is the primary key
     free = result.X[order]
+    size = len(free)
+    origin = [FRONT] * size
+    if nominees is not None and check is not None and len(nominees.X):
+        free = np.vstack([free, policy.contract(nominees.X)])
+        origin += nominees.origin
     evaluation = problem.evaluate_population(free)
     fine = ConstraintPolicy(
         ctx.robot,
@@ -110,7 +136,13 @@ def choose(
         )
     limit = cfg.verify_candidates if check is not None else 0
     index, rhs, candidates, verdicts = verified_rhs(
-        evaluation.F, evaluation.X, passing, cfg, check, limit
+        evaluation.F,
+        evaluation.X,
+        passing[passing < size],
+        cfg,
+        check,
+        limit,
+        passing[passing >= size],
     )
     names = list(ctx.robot.objectives)
     final = result.history[-1]
@@ -127,11 +159,12 @@ def choose(
         "feasible_in_final_population": final.feasible,
         "physical_limits": list(problem.physical),
         "front": {
-            "size": len(free),
-            "passing_recheck": int(passing.size),
-            "rejected_by_recheck": int(len(free) - passing.size),
+            "size": size,
+            "passing_recheck": int((passing < size).sum()),
+            "rejected_by_recheck": int(size - (passing < size).sum()),
             "recheck_samples": cfg.recheck_samples,
         },
+        "nominated": {"size": len(free) - size, "passing_recheck": int((passing >= size).sum())},
         "optimum": {
             "row": index,
             "objectives": dict(zip(names, map(float, evaluation.F[index]), strict=True)),
@@ -140,11 +173,12 @@ def choose(
                 for n, v in zip(DECISION_NAMES, evaluation.X[index], strict=True)
             },
             "rhs_tie_break": rhs.tie_break,
+            "origin": origin[index],
         },
         "simulator_check": [v.__dict__ for v in verdicts],
         "models_digest": models_digest,
     }
-    return Outcome(evaluation, recheck, passing, index, rhs, candidates, summary, verdicts)
+    return Outcome(evaluation, recheck, passing, index, rhs, candidates, summary, verdicts, origin)
 
 
 def verified_rhs(
@@ -154,27 +188,25 @@ def verified_rhs(
     cfg: Optimize,
     check: SimulatorCheck | None,
     limit: int,
+    nominated: np.ndarray | None = None,
 ) -> tuple[int, RHSResult, np.ndarray, list[Verdict]]:
-    """RHS on the predicted objectives ``F`` ranks ``limit`` candidates among ``rows`` (RHS's
-    choice, then its choice among the rest, ...); they are simulated together, and RHS chooses
-    again among those the check passes, on their *simulated* objectives: the surrogates are off
-    by more than the differences RHS weighs near the front's best, the simulator is not. Where
-    the check simulated each candidate several times, differences within the simulator's own
-    repeatability are ties (:func:`resolution`).
+    """RHS on the predicted objectives ``F`` ranks ``limit`` candidates among ``rows``
+    (:func:`rhs_ranking`), the ``nominated`` rows join them; they are simulated together, and RHS
+    chooses again among those the check passes, on their *simulated* objectives: the surrogates
+    are off by more than the differences RHS weighs near the front's best, the simulator is not.
+    Where the check simulated each candidate several times, differences within the simulator's
+    own repeatability are ties (:func:`resolution`).
 
     Returns the chosen row, its RHS trace (over the returned rows), the rows it ran over and the
     verdicts in order. None passing is an OptimizationError naming the first refusals. ``limit``
-    0 (or no check) trusts the surrogates: RHS on ``F`` over ``rows``.
+    0 (or no check) trusts the surrogates: RHS on ``F`` over ``rows``, nominees ignored.
     """
     priority = list(range(F.shape[1]))
     if check is None or limit == 0:
         rhs = rhs_trace(F[rows], priority, cfg.rhs_alpha, cfg.rhs_beta)
         return int(rows[rhs.index]), rhs, rows, []
-    ranked: list[int] = []
-    while rows.size and len(ranked) < limit:
-        index = int(rows[rhs_trace(F[rows], priority, cfg.rhs_alpha, cfg.rhs_beta).index])
-        ranked.append(index)
-        rows = rows[rows != index]
+    extra = [] if nominated is None else [int(r) for r in nominated]
+    ranked = rhs_ranking(F, rows, cfg, limit) + extra
     verdicts = check(ranked, X[ranked])
     passed = [v for v in verdicts if v.ok]
     if not passed:
@@ -187,6 +219,18 @@ def verified_rhs(
     simulated = np.array([v.simulated for v in passed])
     rhs = rhs_trace(simulated, priority, cfg.rhs_alpha, cfg.rhs_beta, resolution(passed))
     return passed[rhs.index].row, rhs, np.array([v.row for v in passed]), verdicts
+
+
+def rhs_ranking(F: np.ndarray, rows: np.ndarray, cfg: Optimize, limit: int) -> list[int]:
+    """The first ``limit`` of ``rows`` in RHS order: RHS's choice on ``F``, then its choice among
+    the rest, and so on."""
+    priority = list(range(F.shape[1]))
+    ranked: list[int] = []
+    while rows.size and len(ranked) < limit:
+        index = int(rows[rhs_trace(F[rows], priority, cfg.rhs_alpha, cfg.rhs_beta).index])
+        ranked.append(index)
+        rows = rows[rows != index]
+    return ranked
 
 
 def resolution(passed: Sequence[Verdict]) -> np.ndarray | None:
@@ -216,6 +260,7 @@ def front_table(outcome: Outcome, ctx: RobotContext, models_digest: str) -> pa.T
         **{f"g:{name}": g for name, g in ev.physical.items()},
         "recheck_feasible": passing,
         "chosen": chosen,
+        "origin": outcome.origin,
     }
     meta = {
         "robot": ctx.name,
@@ -252,6 +297,7 @@ def optimum_record(
     return {
         "robot": ctx.name,
         "front_row": i,
+        "origin": outcome.origin[i],
         "decision": dict(zip(DECISION_NAMES, map(float, ev.X[i]), strict=True)),
         "control_points": points.tolist(),
         "timing": {"T1": timing.T1, "T2": timing.T2, "T3": timing.T3},

@@ -26,16 +26,27 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from ftfof.config import Params, RefineTarget
+from ftfof.config import Optimize, Params, RefineTarget
 from ftfof.data import dataset as ds
+from ftfof.data import targets
 from ftfof.data.acquisition import ACQUISITION
 from ftfof.data.refinement import grow, round_rows
 from ftfof.errors import DataError, SimulationError
-from ftfof.evaluate.fidelity import Fidelity, relative_error, target_met
-from ftfof.evaluate.run import OPTIMUM, Inputs, fidelity_of, front_sample, judged_front
+from ftfof.evaluate.fidelity import Fidelity, relative_error, simulated_objectives, target_met
+from ftfof.evaluate.run import (
+    OPTIMUM,
+    Inputs,
+    channels,
+    fidelity_of,
+    front_sample,
+    judged_front,
+    simulated_rows,
+)
+from ftfof.optimize.select import Nominees, rhs_ranking
 from ftfof.pipeline import tracking
 from ftfof.pipeline.bench import bench
 from ftfof.pipeline.console import console
@@ -46,6 +57,7 @@ from ftfof.pipeline.jobs import FINAL, Acquisition, versions
 from ftfof.robot import RobotContext, robot_context
 from ftfof.seeds import seed_for
 from ftfof.surrogate.store import FILE, TrainingData, read_dataset
+from ftfof.trajectory.bezier import DECISION_NAMES
 
 MANIFEST = "manifest.json"
 ROUND = "round.json"
@@ -72,6 +84,16 @@ class Round:
     seconds: float = 0.0
 
 
+@dataclass(frozen=True)
+class Measured:
+    """A round's clean simulated points (the pad let go, the film survived, the foot landed):
+    decision rows (m) and their objectives from the simulated forces, in priority order."""
+
+    X: np.ndarray
+    F: np.ndarray
+    origin: str  # refine:<round>
+
+
 @dataclass
 class State:
     """What the rounds so far left: the models and front the next round starts from."""
@@ -79,6 +101,7 @@ class State:
     models: Path
     front: Path
     added: list[pa.Table] = field(default_factory=list)  # each round's training rows
+    measured: list[Measured] = field(default_factory=list)  # each round's clean points
 
 
 def run(params: Params, paths: Paths, workers: int | None = None) -> dict[str, Any]:
@@ -153,6 +176,7 @@ def _round(
         done = json.loads(saved.read_text())
         if not done["target_met"]:
             table = read_table(rdir / "simulations" / FINAL, ACQUISITION, "simulations")
+            state.measured.append(_measured(params, ctx, _ok(table), k))
             _advance(state, rdir, _rows(params, table, k))
         return Round(done["record"], done["target_met"], 0)
     from ftfof.surrogate.store import load_surrogate
@@ -163,7 +187,8 @@ def _round(
     ok = _ok(table)
     fid, predicted, measured = fidelity_of(inputs, ok, ctx, load_surrogate(state.models))
     names = inputs.objectives
-    clean = _clean_fraction(params, ctx, ok, table.num_rows)
+    measured_points = _measured(params, ctx, ok, k)
+    clean = len(measured_points.X) / table.num_rows  # a failed run is not clean
     optimum_error = relative_error(predicted[0, 0], measured[0, 0])
     met = round_target_met(params.refine.target, fid[0], optimum_error, clean)
     added = 0
@@ -178,17 +203,57 @@ def _round(
             json_sha256({"dataset": data.metadata_digest, "refine": key, "round": k}, 16),
         )
         _fine_tune(params, grown, state.models, rdir / "models")
-        _search(params, rdir / "models", inputs, rdir / "optimize")
+        state.measured.append(measured_points)
+        nominees = nominees_of(state.measured, params.refine.nominate, params.optimize)
+        _search(params, rdir / "models", inputs, rdir / "optimize", nominees)
         _advance(state, rdir, new)
     record = _record(k, added, fid, clean, names, predicted[0], measured[0])
     write_json(saved, {"record": record, "target_met": met})
     return Round(record, met, simulated)
 
 
-def _clean_fraction(params: Params, ctx: RobotContext, ok, simulated: int) -> float:
-    """The round's points a real foot could run, over all it simulated (a failed run is not)."""
-    members = judged_front(params, ctx, ok)["members"]
-    return sum(m["clean"] for m in members) / simulated
+def _measured(params: Params, ctx: RobotContext, ok, k: int) -> Measured:
+    """Round ``k``'s successful simulations a real foot could run, with their simulated
+    objectives (binned as the surrogate's targets, as the simulator check computes them)."""
+    sims = simulated_rows(ok)
+    clean = np.array([m["clean"] for m in judged_front(params, ctx, ok)["members"]], dtype=bool)
+    sims = sims[clean]
+    X = sims[list(DECISION_NAMES)].to_numpy(dtype=float)
+    names = ctx.robot.objectives
+    F = np.empty((0, len(names)))
+    if len(sims):
+        d = params.dataset
+        force_t = targets.time_base(ctx.policy.timing.T3, d.hold, d.seq_len)
+        runs = [channels(r) for _, r in sims.iterrows()]
+        F = simulated_objectives(
+            names, ctx.policy, X, runs, force_t, d.hold, ctx.robot.pre_pressure
+        )
+    return Measured(X, F, f"refine:{k}")
+
+
+def nominees_of(measured: list[Measured], limit: int, cfg: Optimize) -> Nominees | None:
+    """The first ``limit`` of the rounds' clean points: the pool's non-dominated layers on the
+    robot's first two priorities (MST-M3F: pull and body jitter), in RHS order (``cfg``'s alpha
+    and beta, on every simulated objective) within a layer. RHS's alpha cut presumes a front:
+    over the whole pool, whose pull runs up to 12 N, its first cut kept pulls to 8 N. A front
+    of all objectives would not help: nearly every point is best at one of six. A trajectory
+    simulated in several rounds counts once, with its first round's values. None when there are
+    none."""
+    from pymoo.util.nds.non_dominated_sorting import NonDominatedSorting
+
+    X = np.vstack([m.X for m in measured])
+    if limit == 0 or len(X) == 0:
+        return None
+    F = np.vstack([m.F for m in measured])
+    origin = [m.origin for m in measured for _ in m.X]
+    _, first = np.unique(X, axis=0, return_index=True)
+    first = np.sort(first)
+    ranked: list[int] = []
+    for layer in NonDominatedSorting().do(F[first, :2]):
+        ranked += rhs_ranking(F, first[np.sort(layer)], cfg, limit - len(ranked))
+        if len(ranked) == limit:
+            break
+    return Nominees(X[ranked], [origin[i] for i in ranked])
 
 
 def round_target_met(
@@ -294,9 +359,11 @@ def _fine_tune(params: Params, data: TrainingData, start: Path, out: Path) -> No
     write_models(out, run.results, data, tune, run.peaks)
 
 
-def _search(params: Params, models: Path, inputs: Inputs, out: Path) -> None:
+def _search(
+    params: Params, models: Path, inputs: Inputs, out: Path, nominees: Nominees | None
+) -> None:
     """NSGA-II on the fine-tuned ``models`` from the previous front, then RHS with the simulator's
-    check, as `optimize` chooses -> ``out``."""
+    check, as `optimize` chooses, the ``nominees`` among the candidates -> ``out``."""
     from ftfof.optimize.search import search
     from ftfof.optimize.select import choose
     from ftfof.pipeline.optimize import build_setup, write_front
@@ -313,7 +380,7 @@ def _search(params: Params, models: Path, inputs: Inputs, out: Path) -> None:
     )
     result = search(setup.problem, setup.settings, setup.initial)
     check = simulator_check(params, setup.ctx)  # as optimize: the simulator disposes
-    outcome = choose(params, setup.ctx, setup.problem, result, setup.models_digest, check)
+    outcome = choose(params, setup.ctx, setup.problem, result, setup.models_digest, check, nominees)
     write_front(out, outcome, setup, params)
 
 

@@ -30,9 +30,14 @@ def _with_channels(frame: pd.DataFrame, pulls: list[float]) -> pd.DataFrame:
     return frame.assign(**{c: [ch[c] for ch in series] for c in CHANNELS})
 
 
-def _inputs(n: int, chosen: int, infeasible: tuple[int, ...] = ()) -> Inputs:
+def _inputs(
+    n: int, chosen: int, infeasible: tuple[int, ...] = (), nominated: tuple[int, ...] = ()
+) -> Inputs:
     front = pd.DataFrame(
-        {"recheck_feasible": [i not in infeasible for i in range(n)]},
+        {
+            "recheck_feasible": [i not in infeasible for i in range(n)],
+            "origin": ["refine:1" if i in nominated else "front" for i in range(n)],
+        },
         index=pd.Index(range(n), name="row"),
     )
     return Inputs({"front_row": chosen}, front, ["fs1"], "digest")
@@ -44,6 +49,11 @@ def test_front_sample_spreads_over_passing_rows_and_leaves_out_the_optimum():
     assert rows == [1, 6, 9]
     assert front_sample(inputs, 0) == []
     assert front_sample(inputs, 50) == [1, 2, 3, 4, 6, 7, 8, 9]
+
+
+def test_front_sample_leaves_out_nominees_simulated_before():
+    inputs = _inputs(8, chosen=7, nominated=(6, 7))
+    assert front_sample(inputs, 50) == [0, 1, 2, 3, 4, 5]
 
 
 def _simulations(status: str = "ok") -> pd.DataFrame:

@@ -6,7 +6,14 @@ import numpy as np
 import pytest
 
 from ftfof.errors import OptimizationError
-from ftfof.optimize.select import Verdict, convergence_csv, resolution, verified_rhs
+from ftfof.optimize.select import (
+    Nominees,
+    Verdict,
+    convergence_csv,
+    resolution,
+    rhs_ranking,
+    verified_rhs,
+)
 
 
 def test_convergence_csv_has_one_line_per_record():
@@ -117,3 +124,41 @@ def test_the_resolution_is_the_standard_error_of_a_difference_of_means():
     pooled = np.sqrt((1 + 4 + 9) / 3)  # root mean square: a median (2) would understate it
     np.testing.assert_allclose(resolution(passed), np.array([1, 2]) * pooled * np.sqrt(2 / 3))
     assert resolution([Verdict(0, True, "", {}, [1.0], [], 1)]) is None
+
+
+def test_the_ranking_is_rhs_choice_then_its_choice_among_the_rest():
+    F, _ = _front()
+    ranked = rhs_ranking(F, np.arange(5), _cfg(), 3)
+    rows = np.arange(5)
+    for expected in ranked:  # each is RHS's choice once the earlier ones are gone
+        first, *_ = verified_rhs(F, F, rows, _cfg(), None, 5)
+        assert first == expected
+        rows = rows[rows != first]
+    assert len(set(ranked)) == 3
+    assert rhs_ranking(F, np.arange(5), _cfg(), 9) == rhs_ranking(F, np.arange(5), _cfg(), 5)
+    assert rhs_ranking(F, np.arange(0), _cfg(), 3) == []
+
+
+def test_nominated_rows_are_simulated_beside_the_candidates_and_can_win():
+    F, X = _front()
+    F = np.vstack([F, [[5.0, 5.0]]])  # row 5: a nominee the surrogate thinks the worst
+    X = np.vstack([X, [[10.0, 11.0]]])
+    simulated = {r: [0.5, 0.5] for r in range(6)}
+    simulated[5] = [0.2, 0.2]  # the simulator's best
+    seen = []
+
+    def check(rows, X_rows):
+        seen.extend(rows)
+        return [Verdict(r, True, "", {}, simulated[r]) for r in rows]
+
+    index, _, rows, _ = verified_rhs(F, X, np.arange(5), _cfg(), check, 2, np.array([5]))
+    assert seen == [*rhs_ranking(F, np.arange(5), _cfg(), 2), 5]  # the limit bounds the front's
+    assert index == 5 and 5 in rows
+    # without a check nothing measures the nominee: RHS on the front's predictions alone
+    trusted, *_ = verified_rhs(F, X, np.arange(5), _cfg(), None, 2, np.array([5]))
+    assert trusted != 5
+
+
+def test_nominees_need_an_origin_per_row():
+    with pytest.raises(ValueError, match="2 nominee rows but 1 origins"):
+        Nominees(np.zeros((2, 12)), ["refine:1"])

@@ -12,6 +12,7 @@ from typer.testing import CliRunner
 
 from ftfof.pipeline.digests import models_digest
 from ftfof.pipeline.jobs import Acquisition
+from ftfof.trajectory.bezier import DECISION_NAMES
 from stages.cli import app
 from tests.conftest import optimize_args, refine_args, write_params
 from tests.stages.conftest import TINY_OPTIMIZE
@@ -105,6 +106,24 @@ def test_final_models_and_optimum_are_the_last_rounds(optimized, refined):
     first = json.loads((refined / "round-1" / "optimize" / "optimum.json").read_text())
     sims = pq.read_table(refined / "round-2" / "simulations" / "samples.parquet").to_pandas()
     assert sims[sims.source == "optimum"].sample_id.tolist() == [first["front_row"]]
+
+
+def test_the_rounds_clean_points_join_the_simulator_check(optimized, refined):
+    second = pq.read_table(refined / "round-2" / "optimize" / "front.parquet").to_pandas()
+    nominated = second[second.origin != "front"]
+    assert set(nominated.origin) <= {"refine:1", "refine:2"}
+    assert (second.origin == "front").iloc[: len(second) - len(nominated)].all()  # after the front
+    checked = json.loads((refined / "round-2" / "optimize" / "optimum.json").read_text())
+    rows = {v["row"] for v in checked["simulator_check"]}
+    assert set(nominated.row[nominated.recheck_feasible]) <= rows  # every one simulated again
+    # the round's decision rows are the simulations' own: a nominee is a point simulated before
+    sims = pd.concat(
+        pq.read_table(refined / f"round-{k}" / "simulations" / "samples.parquet").to_pandas()
+        for k in (1, 2)
+    )
+    simulated = {tuple(r) for r in sims[list(DECISION_NAMES)].to_numpy()}
+    assert all(tuple(r) in simulated for r in nominated[list(DECISION_NAMES)].to_numpy())
+    assert len(nominated) >= 1
 
 
 def test_mlflow_parent_run_with_a_linked_child_per_round(optimized, refined):

@@ -243,6 +243,9 @@ class Robot(Strict):
     # bonds formed again in the swing (after complete detachment, before T2) the search may
     # predict: 0.5 = more likely than not none (the pad_retouch constraint); None: not required
     retouch_allowed: NonNegativeFloat | None = 0.5
+    # the peak body acceleration over the step (detachment and landing) the simulator check
+    # allows, m/s^2 (ftfof/data/shake.py); None: not required
+    body_acc_limit: PositiveFloat | None = None
     platform: PlatformMechanics
     # The paper's published optimum (12 decision values, m), simulated in `evaluate` like a
     # baseline and never fitted; null where the robot has none usable here.

@@ -18,6 +18,7 @@ from ftfof.data import targets
 from ftfof.data.dataset import CHANNELS
 from ftfof.data.landing import held_press, landing_fault
 from ftfof.data.release import release_fault
+from ftfof.data.shake import shake_fault
 from ftfof.errors import SimulationError
 from ftfof.evaluate.export import ControllerTrajectory, ExportRateError, controller_trajectory
 from ftfof.evaluate.fidelity import Fidelity, fidelity, simulated_objectives
@@ -117,10 +118,12 @@ def front_members(
     clearance: float,
     landing_tolerance: float | None,
     landing_hold: float,
+    body_acc_limit: float | None = None,
 ) -> dict:
     """The re-simulated optimum and front members side by side: what each trades (pull, jitter,
-    landing press), whether its film survives, its pad lets go and clears the wall, and it lands
-    pressing within the robot's tolerance of a, so the choice can be judged in simulation."""
+    landing press), whether its film survives, its pad lets go and clears the wall, it lands
+    pressing within the robot's tolerance of a and the body shakes within the robot's limit, so
+    the choice can be judged in simulation."""
     sims = simulated_rows(df)
     members = []
     for _, row in sims.iterrows():  # a few tens of rows, once per evaluation
@@ -136,6 +139,7 @@ def front_members(
         held = held_press(np.asarray(row.t, float), np.asarray(row.Fp, float), landing_hold)
         landed = landing_fault(f["landing_pre_pressure"], held, pre_pressure, landing_tolerance)
         film_safe = bool(f["min_bend_radius"] >= film.radius)
+        shook = shake_fault(f["peak_body_acc"], body_acc_limit)
         members.append(
             {
                 "row": int(row.sample_id),
@@ -152,7 +156,10 @@ def front_members(
                 "release_fault": fault,
                 "lands": not landed,
                 "landing_fault": landed,
-                "clean": film_safe and not fault and not landed,  # a real foot could run it
+                "calm": not shook,
+                "shake_fault": shook,
+                # a real foot could run it
+                "clean": film_safe and not fault and not landed and not shook,
             }
         )
 
@@ -164,15 +171,17 @@ def front_members(
         "film_safe_fraction": fraction("film_safe"),
         "lets_go_fraction": fraction("lets_go"),
         "lands_fraction": fraction("lands"),
+        "calm_fraction": fraction("calm"),
         "clean_fraction": fraction("clean"),
         "film_limit": film.as_dict(),
         "swing_clearance": clearance,
         "landing_tolerance": landing_tolerance,
+        "body_acc_limit": body_acc_limit,
     }
 
 
 def judged_front(params: Params, ctx: RobotContext, df: pd.DataFrame) -> dict:
-    """:func:`front_members` with the robot's film, clearance and landing rules."""
+    """:func:`front_members` with the robot's film, clearance, landing and shake rules."""
     robot = ctx.robot
     return front_members(
         df,
@@ -182,6 +191,7 @@ def judged_front(params: Params, ctx: RobotContext, df: pd.DataFrame) -> dict:
         robot.foot.swing_clearance,
         robot.landing_tolerance,
         params.platform.protocol.landing_hold,
+        robot.body_acc_limit,
     )
 
 

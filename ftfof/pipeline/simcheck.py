@@ -11,6 +11,7 @@ from ftfof.config import Params
 from ftfof.data import targets
 from ftfof.data.landing import held_press, landing_fault
 from ftfof.data.release import release_fault
+from ftfof.data.shake import shake_fault
 from ftfof.evaluate.fidelity import simulated_objectives
 from ftfof.optimize.select import SimulatorCheck, Verdict
 from ftfof.pipeline.bench import bench
@@ -37,8 +38,9 @@ def simulator_check(params: Params, ctx: RobotContext) -> SimulatorCheck:
     every run of it passes: the run succeeds, the pad lets go
     cleanly (:func:`ftfof.data.release.release_fault`: the switch trips, the whole pad rises
     ``foot.swing_clearance`` above the wall and stays off it until the landing), the film's
-    minimum bend radius stays at or above its safety limit (:class:`ftfof.sim.film.FilmLimit`)
-    and the landing presses within the robot's tolerance of a (:mod:`ftfof.data.landing`)."""
+    minimum bend radius stays at or above its safety limit (:class:`ftfof.sim.film.FilmLimit`),
+    the landing presses within the robot's tolerance of a (:mod:`ftfof.data.landing`) and the
+    body shakes no harder than the robot's limit (:mod:`ftfof.data.shake`)."""
     from ftfof.sim.film import film_limit
     from ftfof.sim.pool import run_local
     from ftfof.sim.records import SampleResult
@@ -132,6 +134,9 @@ def simulator_check(params: Params, ctx: RobotContext) -> SimulatorCheck:
         )
         if landed:
             return Verdict(row, False, landed, measured)
+        shook = shake_fault(measured["peak_body_acc"], ctx.robot.body_acc_limit)
+        if shook:
+            return Verdict(row, False, shook, measured)
         objectives = simulated_objectives(
             ctx.robot.objectives, ctx.policy, X, [c], force_t, d.hold, ctx.robot.pre_pressure
         )[0]

@@ -99,6 +99,7 @@ def test_front_members_show_each_trade_and_the_film_verdict():
     sims["max_clearance"] = [0.03, 0.0015]
     sims["switch_time"] = [0.3, float("nan")]  # the second never let go
     sims["Fp"] = [np.where(t > 1.0, 5.2, 0.0) for t in sims["t"]]  # the first holds 5.2 N
+    sims["peak_body_acc"] = [8.0, 12.0]
     out = front_members(
         sims,
         Timing(T1=0.3, T2=0.6, T3=T3),
@@ -107,6 +108,7 @@ def test_front_members_show_each_trade_and_the_film_verdict():
         clearance=0.009,
         landing_tolerance=0.15,
         landing_hold=0.25,
+        body_acc_limit=9.81,
     )
     first, other = out["members"]
     assert first["optimum"] and first["row"] == 7 and first["film_safe"]
@@ -117,6 +119,8 @@ def test_front_members_show_each_trade_and_the_film_verdict():
     assert other["release_fault"] == "the pad never let go"
     assert first["lands"] and not other["lands"] and out["lands_fraction"] == 0.5  # 5.5 / 4.0 N
     assert other["landing_fault"] == "the landing pressed 4.00 N, outside a = 5.00 N ± 15 %"
+    assert first["calm"] and not other["calm"] and out["calm_fraction"] == 0.5
+    assert other["shake_fault"] == "the body shook 12.0 m/s², above the robot's 9.81 m/s² limit"
     assert first["clean"] and not other["clean"] and out["clean_fraction"] == 0.5
 
 

@@ -57,11 +57,9 @@ def test_every_stage_wrote_its_outputs(repo):
     for r in rounds:
         assert (refined.source == f"refine:{r['round']}").sum() == r["added"]
     evaluated = json.loads((repo / "data/refine/optimize/optimum.json").read_text())
-    assert (
-        evaluated["front_row"]
-        == json.loads((repo / "reports/metrics.json").read_text())["optimum_front_row"]
-    )
     metrics = json.loads((repo / "reports/metrics.json").read_text())
+    assert evaluated["front_row"] == metrics["optimum_front_row"]
+    assert evaluated["origin"] == metrics["optimum_origin"]
     order = ["polynomial", "cycloidal", "random_bezier", "eps_bezier", "paper_optimum", "optimum"]
     assert set(metrics["table"]) == set(order)
     for row in metrics["table"].values():

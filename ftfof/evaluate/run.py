@@ -267,6 +267,9 @@ def metrics(
         "fidelity_points": n_fidelity,
         "front_simulated": front,
         "optimum_front_row": inputs.optimum["front_row"],
+        "optimum_origin": inputs.optimum[
+            "origin"
+        ],  # front, or the refine round it was simulated in
         "export": {
             "rows": int(controller.table.shape[0]),
             "rate_hz": params.evaluate.export_rate_hz,
@@ -319,7 +322,9 @@ def context(
         "models_digest": inputs.optimum["models_digest"],
         "exudyn": exudyn.__version__,
         "optimum_row": inputs.optimum["front_row"],
-        "front_size": len(inputs.front),
+        "optimum_origin": inputs.optimum["origin"],
+        "front_size": int((inputs.front.origin == FRONT).sum()),
+        "nominees": int((inputs.front.origin != FRONT).sum()),
         "reference": params.evaluate.reference,
         "columns": [
             {

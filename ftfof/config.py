@@ -421,8 +421,8 @@ class Refine(Strict):
     patience: PositiveInt = 4  # early stopping on validation, grown by the rounds' held-out rows
     lr: PositiveFloat = 1e-3  # fine-tuning learning rate
     generations: PositiveInt = 300  # NSGA-II generations per round, from the previous front
-    # the rounds' clean simulated points, first in RHS on their simulated objectives, that join
-    # each round's simulator check beside the surrogate's candidates (0: none)
+    # the rounds' clean simulated points (their simulated pull / jitter layers, in RHS order)
+    # that join each round's simulator check beside the surrogate's candidates (0: none)
     nominate: NonNegativeInt = 8
 
 

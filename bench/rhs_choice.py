@@ -3,12 +3,11 @@ across runs that differ only in their seed (docs/rhs.md).
 
 Every recheck-passing member of each run's final front, its nominees left out
 (``data/refine/optimize/front.parquet`` at a git revision: a commit or a ``dvc exp`` ref, read
-through the DVC cache) is simulated once
-with the pipeline's simulator check; then, for each alpha0 and candidate count, the choice
-``optimize`` would make (RHS on the predictions ranks the candidates, RHS on the simulated
-objectives of those that pass chooses) is printed with its first three simulated objectives
-(MST-M3F: pull, jitter, landing error), and the spread of the first two across the runs (range
-over mean).
+through the DVC cache) is simulated once with the pipeline's simulator check; then, for each
+alpha0 and candidate count, the choice ``optimize`` would make without refinement's nominees
+(RHS on the predictions ranks the candidates, RHS on the simulated objectives of those that pass
+chooses) is printed with its first three simulated objectives (MST-M3F: pull, jitter, landing
+error), and the spread of the first two across the runs (range over mean).
 
 Run: python bench/rhs_choice.py REV [REV ...]   (e.g. HEAD and the refs of `dvc exp list`)
 """
@@ -54,7 +53,7 @@ def main(revs: list[str]) -> None:
         front = front_at(root, rev)
         members = front.recheck_feasible
         if "origin" in front:  # refinement's nominees are not members of the front
-            members &= front.origin == FRONT_ORIGIN
+            members = members & (front.origin == FRONT_ORIGIN)
         rows = front.row[members].to_numpy()
         X = front[list(DECISION_NAMES)].to_numpy(float)
         verdicts = {v.row: v for v in check(list(rows), X[rows])}

@@ -19,7 +19,7 @@ from ftfof.data.dataset import CHANNELS
 from ftfof.data.landing import held_press, landing_fault
 from ftfof.data.release import release_fault
 from ftfof.data.shake import shake_fault
-from ftfof.errors import SimulationError
+from ftfof.errors import DataError, SimulationError
 from ftfof.evaluate.export import ControllerTrajectory, ExportRateError, controller_trajectory
 from ftfof.evaluate.fidelity import Fidelity, fidelity, simulated_objectives
 from ftfof.evaluate.table import COLUMNS, PAPER_TABLE_I, PEAKS, TableRow, table_one
@@ -62,6 +62,8 @@ def front_sample(inputs: Inputs, k: int) -> list[int]:
     """``k`` front rows spread evenly along the priority-sorted front, the optimum and the
     nominees (simulated before, not members of this front) left out."""
     front = inputs.front
+    if "origin" not in front:
+        raise DataError("front.parquet", "has no origin column (re-run `ftfof optimize`)")
     member = front.recheck_feasible & (front.origin == FRONT)
     rows = front.index[member & (front.index != inputs.optimum["front_row"])]
     rows = rows.to_numpy()
@@ -210,7 +212,9 @@ def channels(row: pd.Series) -> dict[str, np.ndarray]:
 def fidelity_of(
     inputs: Inputs, df: pd.DataFrame, ctx: RobotContext, surrogate: Surrogate
 ) -> tuple[list[Fidelity], np.ndarray, np.ndarray]:
-    """Predicted (as the optimiser saw them) and simulated objectives; the optimum is row 0."""
+    """Predicted (as the optimiser saw them) and simulated objectives; the optimum is row 0.
+    A nominee optimum (simulated in an earlier refine round, so among the surrogates' training
+    rows) is left out of the fidelity statistics, which then measure the front members alone."""
     names = inputs.objectives
     sims = simulated_rows(df)
     predicted = inputs.front.loc[sims.sample_id, names].to_numpy(dtype=float)
@@ -224,7 +228,13 @@ def fidelity_of(
         surrogate.hold,
         ctx.robot.pre_pressure,
     )
-    return fidelity(names, predicted, simulated), predicted, simulated
+    measured = slice(0 if from_front(inputs) else 1, None)
+    return fidelity(names, predicted[measured], simulated[measured]), predicted, simulated
+
+
+def from_front(inputs: Inputs) -> bool:
+    """Whether the optimum is a member of its front (not a nominee of earlier simulations)."""
+    return inputs.optimum["origin"] == FRONT
 
 
 def export(ctx: RobotContext, inputs: Inputs, rate: float) -> ControllerTrajectory:
@@ -382,7 +392,8 @@ def evaluate(
     front = judged_front(params, ctx, table)
     fid, predicted, simulated = fidelity_of(inputs, table, ctx, surrogate)
     controller = export(ctx, inputs, cfg.export_rate_hz)
-    summary = metrics(params, inputs, rows, fid, controller, len(predicted), front)
+    n_fidelity = len(predicted) - (0 if from_front(inputs) else 1)
+    summary = metrics(params, inputs, rows, fid, controller, n_fidelity, front)
     figures = simulation_figures(table, predicted, simulated, inputs.objectives, cfg.reference)
     values = context(params, ctx, inputs, rows, fid, summary, predicted, simulated)
     return Evaluation(summary, values, figures, controller)

@@ -27,13 +27,15 @@ from ftfof.trajectory.policy import ConstraintPolicy, FeasibilityReport
 
 @dataclass
 class Outcome:
-    """The search's front, its independent recheck, and the RHS choice among the rows that pass."""
+    """The search's front (and any nominees after it), its independent recheck, and the RHS
+    choice among the rows that pass. A "row" indexes ``evaluation``: the front's, then the
+    nominees'."""
 
-    evaluation: PopulationEvaluation  # the front sorted by objectives in priority order
+    evaluation: PopulationEvaluation  # the front sorted in priority order, then the nominees
     recheck: FeasibilityReport  # on the fine grid, every rule
-    passing: np.ndarray  # front rows feasible on the fine grid
-    index: int  # the chosen front row
-    rhs: RHSResult  # over ``rhs_rows`` (indices mapped back to front rows on output)
+    passing: np.ndarray  # rows feasible on the fine grid
+    index: int  # the chosen row
+    rhs: RHSResult  # over ``rhs_rows`` (indices mapped back to rows on output)
     rhs_rows: np.ndarray  # the passing rows the simulator has not refused
     summary: dict[str, Any]  # the stage's metrics
     verdicts: list[Verdict] = field(default_factory=list)  # simulator checks, in RHS order
@@ -90,10 +92,11 @@ def choose(
     With ``check``, the surrogate proposes and the simulator disposes (:func:`verified_rhs`):
     the first ``optimize.verify_candidates`` RHS candidates are re-simulated, those the simulator
     refuses (in any of its runs: the film bent below its limit, a pad that does not let go
-    cleanly, a landing outside the robot's tolerance, a failed run) are dropped, and RHS chooses
-    among the rest on their simulated objectives (the mean over the runs). ``nominees`` join the
-    candidates as rows after the front's (predicted by the surrogates like them, for the record);
-    without a check they are left out: nothing would measure them against the front.
+    cleanly, a landing outside the robot's tolerance, a body shaken past its limit, a failed
+    run) are dropped, and RHS chooses among the rest on their simulated objectives (the mean over
+    the runs). ``nominees`` join the candidates as rows after the front's (predicted by the
+    surrogates like them, for the record); without a check (or with ``verify_candidates`` 0)
+    they are left out: nothing would measure them against the front.
     """
     cfg = params.optimize
     policy = ctx.policy
@@ -116,7 +119,8 @@ def choose(
     free = result.X[order]
     size = len(free)
     origin = [FRONT] * size
-    if nominees is not None and check is not None and len(nominees.X):
+    limit = cfg.verify_candidates if check is not None else 0
+    if nominees is not None and limit > 0 and len(nominees.X):
         free = np.vstack([free, policy.contract(nominees.X)])
         origin += nominees.origin
     evaluation = problem.evaluate_population(free)
@@ -128,13 +132,12 @@ def choose(
     )
     recheck = fine.check(evaluation.X)
     passing = np.flatnonzero(recheck.feasible)
-    if passing.size == 0:
+    if not (passing < size).any():
         raise OptimizationError(
             "optimize",
-            f"none of the {len(free)} front members passes the recheck on "
+            f"none of the {size} front members passes the recheck on "
             f"{cfg.recheck_samples} samples (first: {'; '.join(recheck.failed(0)[:3])})",
         )
-    limit = cfg.verify_candidates if check is not None else 0
     index, rhs, candidates, verdicts = verified_rhs(
         evaluation.F,
         evaluation.X,
@@ -245,7 +248,8 @@ def resolution(passed: Sequence[Verdict]) -> np.ndarray | None:
 
 
 def front_table(outcome: Outcome, ctx: RobotContext, models_digest: str) -> pa.Table:
-    """Every front row: decision, objectives, violations, recheck and choice; units in metadata."""
+    """Every row (the front's, then any nominees'): decision, objectives, violations, recheck,
+    choice and origin; units in metadata."""
     ev, names = outcome.evaluation, list(ctx.robot.objectives)
     rules = ev.violations.names
     chosen = np.zeros(len(ev.X), dtype=bool)
@@ -290,7 +294,7 @@ def optimum_record(
     def step(s) -> dict:
         d = s.as_dict()
         d["objective"] = names[s.objective]
-        d["remaining"] = [int(rows[r]) for r in s.remaining]  # as front rows
+        d["remaining"] = [int(rows[r]) for r in s.remaining]  # as rows of front.parquet
         return d
 
     fine = outcome.recheck

@@ -42,11 +42,12 @@ from ftfof.evaluate.run import (
     Inputs,
     channels,
     fidelity_of,
+    from_front,
     front_sample,
     judged_front,
     simulated_rows,
 )
-from ftfof.optimize.select import Nominees, rhs_ranking
+from ftfof.optimize.select import FRONT, Nominees, rhs_ranking
 from ftfof.pipeline import tracking
 from ftfof.pipeline.bench import bench
 from ftfof.pipeline.console import console
@@ -102,6 +103,9 @@ class State:
     front: Path
     added: list[pa.Table] = field(default_factory=list)  # each round's training rows
     measured: list[Measured] = field(default_factory=list)  # each round's clean points
+    # decision rows the simulator check refused in a round: never nominated again (fresh copies
+    # would give a refused trajectory another draw)
+    refused: list[np.ndarray] = field(default_factory=lambda: [np.empty((0, len(DECISION_NAMES)))])
 
 
 def run(params: Params, paths: Paths, workers: int | None = None) -> dict[str, Any]:
@@ -177,7 +181,8 @@ def _round(
         if not done["target_met"]:
             table = read_table(rdir / "simulations" / FINAL, ACQUISITION, "simulations")
             state.measured.append(_measured(params, ctx, _ok(table), k))
-            _advance(state, rdir, _rows(params, table, k))
+            state.refused.append(_refused(rdir / "optimize"))
+            _advance(state, rdir, _rows(params, _unseen(table, [data.table, *state.added]), k))
         return Round(done["record"], done["target_met"], 0)
     from ftfof.surrogate.store import load_surrogate
 
@@ -189,11 +194,13 @@ def _round(
     names = inputs.objectives
     measured_points = _measured(params, ctx, ok, k)
     clean = len(measured_points.X) / table.num_rows  # a failed run is not clean
-    optimum_error = relative_error(predicted[0, 0], measured[0, 0])
+    # a nominee optimum is among the training rows: its error says nothing, the front's does
+    first = fid[0].median_relative_error
+    optimum_error = relative_error(predicted[0, 0], measured[0, 0]) if from_front(inputs) else first
     met = round_target_met(params.refine.target, fid[0], optimum_error, clean)
     added = 0
     if not met:
-        new = _rows(params, table, k)
+        new = _rows(params, _unseen(table, [data.table, *state.added]), k)
         added = new.num_rows
         grown = TrainingData(
             grow(data.table, [*state.added, new]),
@@ -204,8 +211,11 @@ def _round(
         )
         _fine_tune(params, grown, state.models, rdir / "models")
         state.measured.append(measured_points)
-        nominees = nominees_of(state.measured, params.refine.nominate, params.optimize)
+        nominees = nominees_of(
+            state.measured, params.refine.nominate, params.optimize, np.vstack(state.refused)
+        )
         _search(params, rdir / "models", inputs, rdir / "optimize", nominees)
+        state.refused.append(_refused(rdir / "optimize"))
         _advance(state, rdir, new)
     record = _record(k, added, fid, clean, names, predicted[0], measured[0])
     write_json(saved, {"record": record, "target_met": met})
@@ -231,29 +241,62 @@ def _measured(params: Params, ctx: RobotContext, ok, k: int) -> Measured:
     return Measured(X, F, f"refine:{k}")
 
 
-def nominees_of(measured: list[Measured], limit: int, cfg: Optimize) -> Nominees | None:
+def nominees_of(
+    measured: list[Measured], limit: int, cfg: Optimize, refused: np.ndarray | None = None
+) -> Nominees | None:
     """The first ``limit`` of the rounds' clean points: the pool's non-dominated layers on the
     robot's first two priorities (MST-M3F: pull and body jitter), in RHS order (``cfg``'s alpha
     and beta, on every simulated objective) within a layer. RHS's alpha cut presumes a front:
     over the whole pool, whose pull runs up to 12 N, its first cut kept pulls to 8 N. A front
     of all objectives would not help: nearly every point is best at one of six. A trajectory
-    simulated in several rounds counts once, with its first round's values. None when there are
-    none."""
+    simulated in several rounds counts once, with its first round's values; one the simulator
+    check ``refused`` (decision rows) is left out, as is one with a non-finite objective. None
+    when there are none."""
     from pymoo.util.nds.non_dominated_sorting import NonDominatedSorting
 
-    X = np.vstack([m.X for m in measured])
-    if limit == 0 or len(X) == 0:
+    if limit == 0 or not measured:
         return None
+    X = np.vstack([m.X for m in measured])
     F = np.vstack([m.F for m in measured])
     origin = [m.origin for m in measured for _ in m.X]
     _, first = np.unique(X, axis=0, return_index=True)
     first = np.sort(first)
+    keep = np.isfinite(F[first]).all(axis=1) & ~_among(X[first], refused)
+    first = first[keep]
+    if first.size == 0:
+        return None
     ranked: list[int] = []
     for layer in NonDominatedSorting().do(F[first, :2]):
         ranked += rhs_ranking(F, first[np.sort(layer)], cfg, limit - len(ranked))
         if len(ranked) == limit:
             break
     return Nominees(X[ranked], [origin[i] for i in ranked])
+
+
+def _among(X: np.ndarray, rows: np.ndarray | None) -> np.ndarray:
+    """Per row of ``X``, whether it is one of ``rows`` (to a nanometre: the decision values
+    pass through the policy's free variables and back)."""
+    if rows is None or len(rows) == 0 or len(X) == 0:
+        return np.zeros(len(X), dtype=bool)
+    return (np.abs(X[:, None, :] - rows[None, :, :]).max(axis=-1) <= 1e-9).any(axis=1)
+
+
+def _unseen(rows: pa.Table, tables: list[pa.Table]) -> pa.Table:
+    """``rows`` but those whose trajectory (decision values) a table already holds: a nominee
+    optimum is re-simulated in the next round, and is in the training data already (the same
+    trajectory in both splits would leak into early stopping)."""
+    names = list(DECISION_NAMES)
+    seen = np.vstack([t.select(names).to_pandas().to_numpy(float) for t in tables])
+    new = rows.select(names).to_pandas().to_numpy(float)
+    return rows.filter(pa.array(~_among(new, seen)))
+
+
+def _refused(optimize: Path) -> np.ndarray:
+    """The decision rows the round's simulator check refused (from its optimum.json)."""
+    optimum = json.loads((optimize / "optimum.json").read_text())
+    rows = [v["row"] for v in optimum["simulator_check"] if not v["ok"]]
+    front = pq.read_table(optimize / "front.parquet").to_pandas().set_index("row")
+    return front.loc[rows, list(DECISION_NAMES)].to_numpy(float).reshape(-1, len(DECISION_NAMES))
 
 
 def round_target_met(
@@ -371,11 +414,12 @@ def _search(
     from ftfof.surrogate.store import load_surrogate
     from ftfof.trajectory.bezier import DECISION_NAMES
 
+    members = inputs.front[inputs.front.origin == FRONT]  # nominees are not of the front
     setup = build_setup(
         params,
         load_surrogate(models),
         models_digest(models),
-        warm_start_front=inputs.front[list(DECISION_NAMES)].to_numpy(dtype=float),
+        warm_start_front=members[list(DECISION_NAMES)].to_numpy(dtype=float),
         generations=params.refine.generations,
     )
     result = search(setup.problem, setup.settings, setup.initial)

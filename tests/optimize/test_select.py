@@ -155,8 +155,9 @@ def test_nominated_rows_are_simulated_beside_the_candidates_and_can_win():
     assert seen == [*rhs_ranking(F, np.arange(5), _cfg(), 2), 5]  # the limit bounds the front's
     assert index == 5 and 5 in rows
     # without a check nothing measures the nominee: RHS on the front's predictions alone
-    trusted, *_ = verified_rhs(F, X, np.arange(5), _cfg(), None, 2, np.array([5]))
-    assert trusted != 5
+    trusted = verified_rhs(F, X, np.arange(5), _cfg(), None, 2, np.array([5]))
+    alone = verified_rhs(F, X, np.arange(5), _cfg(), None, 2)
+    assert trusted[0] == alone[0] and list(trusted[2]) == list(alone[2]) == list(range(5))
 
 
 def test_nominees_need_an_origin_per_row():

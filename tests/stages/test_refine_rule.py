@@ -42,4 +42,10 @@ def test_nominees_are_the_pools_pull_jitter_layers_in_rhs_order():
     assert rhs_ranking(pool, np.arange(4), cfg, 2) == [3, 1]  # what the layers prevent
     assert len(nominees_of(measured, 9, cfg).X) == 4
     assert nominees_of(measured, 0, cfg) is None
+    # a trajectory the check refused (to the nanometre) is not nominated again, nor one with an
+    # objective the simulation could not give
+    refused = nominees_of(measured, 9, cfg, X2[1:] + 1e-10)
+    np.testing.assert_array_equal(refused.X, np.vstack([X1[1], X1[2], X1[0]]))
+    unknown = [Measured(X1, np.where(np.arange(3)[:, None] == 2, np.nan, F1), "refine:1")]
+    np.testing.assert_array_equal(nominees_of(unknown, 9, cfg).X, X1[[1, 0]])
     assert nominees_of([Measured(np.empty((0, 12)), np.empty((0, 2)), "refine:1")], 3, cfg) is None

@@ -86,7 +86,8 @@ def test_two_rounds_append_rows_with_their_source_and_hold_some_out(optimized, r
         rows = added[added.source == f"refine:{r['round']}"]
         sims = pq.read_table(refined / f"round-{r['round']}" / "simulations" / "samples.parquet")
         ok = sims.column("status").to_pylist().count("ok")
-        assert len(rows) == r["added"] == ok >= 2  # the optimum and at least one front member
+        # the optimum and the front members, but a nominee optimum, which is in the data already
+        assert len(rows) == r["added"] >= ok - 1 >= 1
         assert all(k.startswith(f"refine:{r['round']}:") for k in rows.key)
         held_out = round(0.15 * r["added"])  # the dataset's validation_fraction: 1 of 4
         assert list(rows.split).count("validation") == held_out
@@ -115,6 +116,7 @@ def test_the_rounds_clean_points_join_the_simulator_check(optimized, refined):
     assert (second.origin == "front").iloc[: len(second) - len(nominated)].all()  # after the front
     checked = json.loads((refined / "round-2" / "optimize" / "optimum.json").read_text())
     rows = {v["row"] for v in checked["simulator_check"]}
+    assert nominated.recheck_feasible.any()
     assert set(nominated.row[nominated.recheck_feasible]) <= rows  # every one simulated again
     # the round's decision rows are the simulations' own: a nominee is a point simulated before
     sims = pd.concat(

@@ -181,6 +181,26 @@ def test_a_killed_round_resumes_without_losing_or_resimulating(optimized, refine
     assert _files(out) == _files(refined)  # every sample, model and front as uninterrupted
 
 
+def test_a_run_killed_in_round_two_rebuilds_round_one_as_it_was(optimized, refined, monkeypatch):
+    original = Acquisition._write_part
+
+    def killed_in_round_two(self, results):
+        original(self, results)
+        if "round-2" in self.out.as_posix():
+            raise KilledError
+
+    monkeypatch.setattr(Acquisition, "_write_part", killed_in_round_two)
+    result, out = _refine(optimized, "resumed_late")
+    assert isinstance(result.exception, KilledError)
+    assert (out / "round-1" / "round.json").exists()
+    assert not (out / "round-2" / "round.json").exists()
+    monkeypatch.setattr(Acquisition, "_write_part", original)
+    result, out = _refine(optimized, "resumed_late")
+    assert result.exit_code == 0, result.output
+    # round 2's nominees, refusals and training rows come from round 1's files on disk
+    assert _files(out) == _files(refined)
+
+
 def test_a_met_target_stops_before_training(optimized):
     tmp, work, _, _ = optimized
     met = {"spearman": -1.0, "relative_error": 1e9, "clean": 0.0}

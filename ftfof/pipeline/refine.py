@@ -4,7 +4,9 @@ Each round re-simulates the current optimum and front members spread along its f
 acquisition job), measures the surrogates' fidelity on them *before* training on them, appends them
 to the dataset (source ``refine:<k>``, split like the dataset with the round's own seed, so
 fine-tuning's early stopping sees the region the optimiser went to), fine-tunes the surrogates
-from their weights and re-runs NSGA-II from the previous front. It stops after ``refine.rounds``
+from their weights and re-runs NSGA-II from the previous front. The rounds' clean points are also
+candidates: the best of them (:func:`nominees_of`) join each round's simulator check beside the
+surrogate's and may be chosen (docs/rhs.md). It stops after ``refine.rounds``
 rounds, or earlier once the fidelity target on the first-priority objective is met and enough of
 the round's points pass the simulator (the pad lets go, its film survives, it lands: a front of
 exploits the surrogate has not seen can rank fs1 well); the models and optimum that met it are
@@ -87,8 +89,9 @@ class Round:
 
 @dataclass(frozen=True)
 class Measured:
-    """A round's clean simulated points (the pad let go, the film survived, the foot landed):
-    decision rows (m) and their objectives from the simulated forces, in priority order."""
+    """A round's clean simulated points (the pad let go, the film survived, the foot landed, the
+    body stayed within its limit): decision rows (m) and their objectives from the simulated
+    forces, in priority order."""
 
     X: np.ndarray
     F: np.ndarray

@@ -38,8 +38,8 @@ class Outcome:
     rhs: RHSResult  # over ``rhs_rows`` (indices mapped back to rows on output)
     rhs_rows: np.ndarray  # the passing rows the simulator has not refused
     summary: dict[str, Any]  # the stage's metrics
-    verdicts: list[Verdict] = field(default_factory=list)  # simulator checks, in RHS order
-    origin: list[str] = field(default_factory=list)  # per row: "front", or the nominee's origin
+    verdicts: list[Verdict]  # simulator checks, in RHS order
+    origin: list[str]  # per row: "front", or the nominee's origin
 
 
 FRONT = "front"  # the origin of the search's own front rows
@@ -132,7 +132,8 @@ def choose(
     )
     recheck = fine.check(evaluation.X)
     passing = np.flatnonzero(recheck.feasible)
-    if not (passing < size).any():
+    members, nominated = passing[passing < size], passing[passing >= size]
+    if members.size == 0:
         raise OptimizationError(
             "optimize",
             f"none of the {size} front members passes the recheck on "
@@ -141,11 +142,11 @@ def choose(
     index, rhs, candidates, verdicts = verified_rhs(
         evaluation.F,
         evaluation.X,
-        passing[passing < size],
+        members,
         cfg,
         check,
         limit,
-        passing[passing >= size],
+        nominated,
     )
     names = list(ctx.robot.objectives)
     final = result.history[-1]
@@ -163,11 +164,11 @@ def choose(
         "physical_limits": list(problem.physical),
         "front": {
             "size": size,
-            "passing_recheck": int((passing < size).sum()),
-            "rejected_by_recheck": int(size - (passing < size).sum()),
+            "passing_recheck": int(members.size),
+            "rejected_by_recheck": int(size - members.size),
             "recheck_samples": cfg.recheck_samples,
         },
-        "nominated": {"size": len(free) - size, "passing_recheck": int((passing >= size).sum())},
+        "nominated": {"size": len(free) - size, "passing_recheck": int(nominated.size)},
         "optimum": {
             "row": index,
             "objectives": dict(zip(names, map(float, evaluation.F[index]), strict=True)),

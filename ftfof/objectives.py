@@ -155,12 +155,6 @@ def pad_retouch(retouch: Array, allowed: float) -> Array:
     return np.max(retouch, axis=-1) / allowed - 1.0
 
 
-def body_shake(shake: Array, limit: float) -> Array:
-    """max body acceleration over the step / limit - 1: <= 0 when neither the detachment nor
-    the landing's impact shakes the body past the robot's limit (:mod:`ftfof.data.shake`)."""
-    return np.max(shake, axis=-1) / limit - 1.0
-
-
 @dataclass(frozen=True)
 class Evidence:
     """What the strategy functions read for one population.

@@ -19,10 +19,6 @@ gives on the binned series, so a predicted and a simulated objective measure the
   spikes of its density (which it ranked at Spearman 0.5-0.6 on the front).
 - ``body_acc``: the body acceleration on lift-off (first bond break) -> complete detachment +
   50 ms, bin maximum -> fsj = max (the IMU jitter of FTFOF Table I, during detachment).
-- ``shake``: the body acceleration over the whole step (t >= 0: the detachment's snap, the
-  swing and the landing's impact), bin maximum -> body limit g = max / body_acc_limit - 1 <= 0,
-  the peak :mod:`ftfof.data.shake` judges in simulation (``peak_body_acc``). fsj reads the
-  detachment alone; without this the search cannot see a landing that hits the body hard.
 - ``curvature``: the film's free-span curvature (t >= 0), bin maximum -> film safety
   g = fc * max - 1 <= 0.
 - ``clearance``: the height of the film's lowest point above the wall (t >= 0; 0 while any of it
@@ -57,24 +53,13 @@ from ftfof.objectives import DETACHED_FRACTION, jitter_exceedance
 
 Array = NDArray[np.float64]
 
-TARGETS = (
-    "pull",
-    "Fd",
-    "Fp",
-    "jitter",
-    "body_acc",
-    "shake",
-    "curvature",
-    "clearance",
-    "retouch",
-)
+TARGETS = ("pull", "Fd", "Fp", "jitter", "body_acc", "curvature", "clearance", "retouch")
 UNITS = {
     "pull": "N",
     "Fd": "N",
     "Fp": "N",
     "jitter": "",
     "body_acc": "m/s^2",
-    "shake": "m/s^2",
     "curvature": "1/m",
     "clearance": "m",
     "retouch": "bonds",
@@ -169,7 +154,6 @@ def full_rate(
         jitter = nan
     body = np.asarray(channels.get("body_acc", nan), dtype=float)
     body_window = (t >= lift_off_time(t, bonds)) & (t <= detached + BODY_TAIL)
-    body_seen = np.isfinite(body).all()
     curvature, clearance = (_film_channel(channels, k, nan) for k in ("curvature", "clearance"))
     switched = switch.size == t.size and np.isfinite(switch).all()
     knows_retouch = landing_start is not None and switched and np.isfinite(bonds).all()
@@ -179,8 +163,7 @@ def full_rate(
         "Fd": np.where(holding, np.maximum(fz, 0.0), 0.0),
         "Fp": np.where(t >= detached, np.maximum(-fz, 0.0), 0.0),
         "jitter": jitter,
-        "body_acc": np.where(body_window, body, 0.0) if body_seen else nan,
-        "shake": np.where(t >= 0, body, 0.0) if body_seen else nan,
+        "body_acc": np.where(body_window, body, 0.0) if np.isfinite(body).all() else nan,
         "curvature": np.where(t >= 0, curvature, 0.0) if np.isfinite(curvature).all() else nan,
         "clearance": np.where(t >= 0, clearance, 0.0) if np.isfinite(clearance).all() else nan,
         "retouch": (

@@ -29,7 +29,6 @@ from threadpoolctl import ThreadpoolController
 from ftfof.data.release import swing_gap
 from ftfof.objectives import (
     Evidence,
-    body_shake,
     film_safety,
     fs3_pre_pressure_error,
     pad_clearance,
@@ -53,9 +52,7 @@ class PhysicalLimits:
     complete detachment and the landing segment (:func:`ftfof.objectives.pad_retouch`), where
     the robot allows a number.
     ``landing_press``, :mod:`ftfof.data.landing` on the predicted landing pre-pressure:
-    fs3 / (tolerance x a) - 1, where the robot has a landing tolerance.
-    ``body_shake``, :mod:`ftfof.data.shake` on the predicted body acceleration over the whole
-    step: max / body_acc_limit - 1, where the robot has a body limit."""
+    fs3 / (tolerance x a) - 1, where the robot has a landing tolerance."""
 
     film_radius: float  # m, ftfof.sim.film.FilmLimit.radius
     swing_clearance: float  # m, robot.foot.swing_clearance
@@ -64,24 +61,17 @@ class PhysicalLimits:
     pre_pressure: float  # a, N
     landing_tolerance: float | None = None  # robot.landing_tolerance (None: not constrained)
     retouch_allowed: float | None = None  # robot.retouch_allowed, bonds (None: not constrained)
-    body_acc_limit: float | None = None  # robot.body_acc_limit, m/s^2 (None: not constrained)
 
     TARGETS: ClassVar[dict[str, str]] = {
         "film_safety": "curvature",
         "pad_clearance": "clearance",
         "pad_retouch": "retouch",
         "landing_press": "Fp",
-        "body_shake": "shake",
     }
 
     def asked(self) -> tuple[str, ...]:
-        """The limits the robot asks for: the landing press, the retouch and the body's shake
-        where it sets them."""
-        optional = {
-            "landing_press": self.landing_tolerance,
-            "pad_retouch": self.retouch_allowed,
-            "body_shake": self.body_acc_limit,
-        }
+        """The limits the robot asks for: the landing press and the retouch where it sets them."""
+        optional = {"landing_press": self.landing_tolerance, "pad_retouch": self.retouch_allowed}
         return tuple(name for name in self.TARGETS if optional.get(name, True) is not None)
 
     def constrained(self, trained: Sequence[str]) -> tuple[str, ...]:
@@ -97,7 +87,6 @@ class PhysicalLimits:
             "pad_clearance": lambda: self._release(series["clearance"], t),
             "pad_retouch": lambda: pad_retouch(series["retouch"], self.retouch_allowed),
             "landing_press": lambda: self._landing(series["Fp"]),
-            "body_shake": lambda: body_shake(series["shake"], self.body_acc_limit),
         }
         return {name: rules[name]() for name in names}
 

@@ -106,7 +106,6 @@ def build_setup(
             robot.pre_pressure,
             robot.landing_tolerance,
             robot.retouch_allowed,
-            robot.body_acc_limit,
         ),
     )
     unseen = set(problem.limits.asked()) - set(problem.physical)

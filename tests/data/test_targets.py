@@ -69,18 +69,6 @@ def test_body_jitter_counts_the_release_not_the_landing():
     assert np.all(s["body_acc"][targets.time_base(T3, HOLD, N) > SWITCH + 0.06] == 0)
 
 
-def test_the_body_shake_counts_the_whole_step_landing_included_and_nothing_before_it():
-    ch = fake_channels(4.0)
-    t = ch["t"]
-    ch["body_acc"] = ch["body_acc"] + 100.0 * (np.abs(t - 1.0) < 0.005)  # landing impact
-    ch["body_acc"] = ch["body_acc"] + 500.0 * (t < 0)  # the press before the step: not counted
-    s = targets.binned(ch, T3, HOLD, N)
-    assert s["shake"].max() == pytest.approx(102.0, rel=1e-3)  # the impact, on the 2 m/s^2 floor
-    assert s["shake"].max() == pytest.approx(ch["body_acc"][t >= 0].max())  # peak_body_acc's
-    ch["body_acc"] = np.full_like(t, np.nan)  # no IMU: masked, not invented
-    assert np.isnan(targets.binned(ch, T3, HOLD, N)["shake"]).all()
-
-
 def test_film_curvature_is_binned_by_maximum_and_masked_where_unseen():
     ch = fake_channels(3.0, with_film=False)
     assert np.isnan(targets.binned(ch, T3, HOLD, N)["curvature"]).all()
@@ -118,7 +106,7 @@ def test_a_force_log_supplies_the_forces_only():
     assert s["Fd"].max() == pytest.approx(4.0, rel=1e-6)  # the tension it measured
     assert np.isnan(s["pull"]).all() and np.isnan(s["jitter"]).all()  # no resultant: masked
     assert np.isnan(s["body_acc"]).all() and np.isnan(s["curvature"]).all()
-    assert np.isnan(s["clearance"]).all() and np.isnan(s["shake"]).all()
+    assert np.isnan(s["clearance"]).all()
     assert s["Fp"].max() == pytest.approx(5.0, rel=1e-3)  # detachment by eq. 11's 5 % rule
 
 

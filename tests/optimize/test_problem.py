@@ -26,7 +26,6 @@ def _problem(ctx, surrogate, objectives=None):
             robot.pre_pressure,
             robot.landing_tolerance,
             robot.retouch_allowed,
-            robot.body_acc_limit,
         ),
     )
 
@@ -74,23 +73,16 @@ def test_shapes_and_box(ctx, surrogate):
         expected = landing / (tolerance * ctx.robot.pre_pressure) - 1
         np.testing.assert_allclose(result.physical["landing_press"], expected)
         limits.append(expected)
-    body_limit = ctx.robot.body_acc_limit
-    if body_limit is None:  # MST-Q's body is not assessed
-        assert "body_shake" not in result.physical
-    else:
-        expected = result.series["shake"].max(1) / body_limit - 1
-        np.testing.assert_allclose(result.physical["body_shake"], expected)
-        limits.append(expected)
     # the physical limits are the last columns, in PhysicalLimits' order
     np.testing.assert_allclose(out["G"][:, -len(limits) :], np.column_stack(limits))
 
 
-@pytest.mark.parametrize("dropped", ["curvature", "clearance", "retouch", "Fp", "shake"])
+@pytest.mark.parametrize("dropped", ["curvature", "clearance", "retouch", "Fp"])
 def test_an_untrained_physical_target_is_no_constraint(m3f, surrogate, dropped):
     trained = tuple(n for n in surrogate.trained if n != dropped)
     untrained = dataclasses.replace(surrogate, trained=trained)
     problem = _problem(m3f, untrained)
-    assert problem.n_ieq_constr == len(problem.rules) + 4 and len(problem.physical) == 4
+    assert problem.n_ieq_constr == len(problem.rules) + 3 and len(problem.physical) == 3
     with pytest.raises(ValueError, match=dropped):
         untrained.predict(np.zeros((1, 32, 2)), np.zeros((1, 32, 2)), [dropped])
 
@@ -129,19 +121,11 @@ def test_objectives_follow_the_priority_order(m3f, surrogate):
     np.testing.assert_allclose(reversed_problem.evaluate_population(free).F, F[:, ::-1])
 
 
-def test_a_robot_asks_for_the_landing_press_retouch_and_body_limit_only_where_it_sets_them():
+def test_a_robot_asks_for_the_landing_press_and_the_retouch_only_where_it_sets_them():
     limits = PhysicalLimits(0.0016, 0.009, 0.002, 0.6, 5.0)
     assert limits.asked() == ("film_safety", "pad_clearance")
-    all_set = dataclasses.replace(
-        limits, landing_tolerance=0.1, retouch_allowed=0.5, body_acc_limit=9.81
-    )
-    assert all_set.asked() == (
-        "film_safety",
-        "pad_clearance",
-        "pad_retouch",
-        "landing_press",
-        "body_shake",
-    )
+    both = dataclasses.replace(limits, landing_tolerance=0.1, retouch_allowed=0.5)
+    assert both.asked() == ("film_safety", "pad_clearance", "pad_retouch", "landing_press")
 
 
 def test_the_peak_models_set_fs3_fs7_and_the_landing_limit(m3f, surrogate):

@@ -70,6 +70,12 @@ def prepare(params: Params, models: Path) -> Setup:
 
     mlflow = tracking.setup(tracking.experiment_name(params.robot))
     registered = fetch_model(mlflow, params.robot, params.train.use, params.train.alias, models)
+    if registered.moved_from is not None:
+        console.print(
+            f"[yellow]{registered.name}@{params.train.alias} named version "
+            f"{registered.moved_from}; {models} holds version {registered.version}'s models (DVC "
+            "restored an earlier `train`): the alias is moved back to it"
+        )
     surrogate = load_surrogate(models, params.train.use, registered.path)
     return build_setup(params, surrogate, models_digest(models), registered)
 

@@ -5,6 +5,11 @@ multi-output GRU over every target).
 default) at the model the optimiser is to use; ``optimize`` resolves it by that alias, so the
 MLflow UI shows which version each search used. The state dict rides along in the model version
 (``extra_files``) and is read with ``torch.load(weights_only=True)``: nothing is unpickled.
+
+Every version is tagged with the SHA-256 of its weights and peak models. DVC restores ``train``'s
+outputs from its run cache when params or code return to an earlier state, without running
+``train``, so the alias still names the newer version; ``optimize`` then moves the alias back to
+the version whose tags match the restored files, instead of refusing them.
 """
 
 from __future__ import annotations
@@ -23,6 +28,10 @@ def model_name(robot: str, loss: str) -> str:
     return f"ftfof-{robot}-{loss}"
 
 
+WEIGHTS_TAG = "ftfof.weights_sha256"
+PEAKS_TAG = "ftfof.peaks_sha256"
+
+
 @dataclass(frozen=True)
 class RegisteredWeights:
     """One model version resolved by alias, and where its state dict was fetched to."""
@@ -31,10 +40,20 @@ class RegisteredWeights:
     version: str
     run_id: str
     path: Path
+    moved_from: str | None = None  # the version the alias named before it was moved back
 
     @property
     def uri(self) -> str:
         return f"models:/{self.name}/{self.version}"
+
+
+def weights_tags(models_dir: Path, loss: str) -> dict[str, str]:
+    """The digests a version of ``loss``'s model trained into ``models_dir`` is tagged with."""
+    peaks = models_dir / PEAKS
+    return {
+        WEIGHTS_TAG: file_sha256(models_dir / weights_file(loss)),
+        PEAKS_TAG: file_sha256(peaks) if peaks.is_file() else "none",
+    }
 
 
 def fetch_model(
@@ -42,7 +61,9 @@ def fetch_model(
 ) -> RegisteredWeights:
     """Resolve ``models:/ftfof-<robot>-<loss>@<alias>`` and download its weights, which must be
     byte-identical to the file DVC tracks in ``models_dir`` (and so must its peak models), so the
-    registry and the pipeline cannot disagree about which surrogate a search used."""
+    registry and the pipeline cannot disagree about which surrogate a search used. Where the alias
+    names another version but a registered one is tagged with the tracked files' digests (DVC
+    restored an earlier ``train``), the alias moves back to it."""
     from mlflow.exceptions import MlflowException
 
     client = mlflow.MlflowClient()
@@ -56,7 +77,17 @@ def fetch_model(
             uri,
             f"not in the MLflow registry at {mlflow.get_tracking_uri()} (run `ftfof train`)",
         ) from None
-    local = Path(mlflow.artifacts.download_artifacts(artifact_uri=uri, dst_path=str(into)))
+    moved_from = None
+    tracked_tags = (
+        weights_tags(models_dir, loss) if (models_dir / weights_file(loss)).is_file() else {}
+    )
+    if tracked_tags and not _tagged_with(version, tracked_tags):
+        twin = _newest_tagged(client, name, tracked_tags)
+        if twin is not None:
+            client.set_registered_model_alias(name, alias, twin.version)
+            moved_from, version = str(version.version), twin
+    source = f"models:/{name}/{version.version}"
+    local = Path(mlflow.artifacts.download_artifacts(artifact_uri=source, dst_path=str(into)))
     path = local / "extra_files" / weights_file(loss)
     tracked = models_dir / weights_file(loss)
     if not path.is_file():
@@ -70,4 +101,16 @@ def fetch_model(
                 f"version {version.version} differs from {kept} "
                 "(models trained elsewhere? re-run `ftfof train`)",
             )
-    return RegisteredWeights(name, str(version.version), version.run_id, path)
+    return RegisteredWeights(name, str(version.version), version.run_id, path, moved_from)
+
+
+def _tagged_with(version, tags: dict[str, str]) -> bool:
+    return all(version.tags.get(k) == v for k, v in tags.items())
+
+
+def _newest_tagged(client, name: str, tags: dict[str, str]):
+    """The newest version of ``name`` carrying every tag of ``tags`` (None if none does)."""
+    matching = [
+        v for v in client.search_model_versions(f"name = '{name}'") if _tagged_with(v, tags)
+    ]
+    return max(matching, key=lambda v: int(v.version), default=None)

@@ -19,7 +19,7 @@ from ftfof.config import Params, Train
 from ftfof.errors import DataError
 from ftfof.pipeline import tracking
 from ftfof.pipeline.digests import models_digest
-from ftfof.pipeline.registry import model_name
+from ftfof.pipeline.registry import model_name, weights_tags
 from ftfof.seeds import seed_for
 from ftfof.stats import rank_rho
 from ftfof.surrogate.peaks import PeakModel, fit_peak_model
@@ -276,10 +276,11 @@ def track(
                         str(p) for p in (out / weights_file(r["kind"]), out / PEAKS) if p.exists()
                     ],
                 )
+                client, version = mlflow.MlflowClient(), str(info.registered_model_version)
+                for key, value in weights_tags(out, r["kind"]).items():
+                    client.set_model_version_tag(name, version, key, value)
                 if r["kind"] == cfg.use:
-                    mlflow.MlflowClient().set_registered_model_alias(
-                        name, cfg.alias, str(info.registered_model_version)
-                    )
+                    client.set_registered_model_alias(name, cfg.alias, version)
 
 
 def _log_history(mlflow, result: dict) -> None:

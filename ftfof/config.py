@@ -424,6 +424,9 @@ class Refine(Strict):
     # the rounds' clean simulated points (their simulated pull / jitter layers, in RHS order)
     # that join each round's simulator check beside the surrogate's candidates (0: none)
     nominate: NonNegativeInt = 8
+    # train.peaks targets whose peak GP gets a second, local GP on the rounds' points, taken
+    # where it knows the trajectory (ftfof/surrogate/peaks.py NearFront)
+    near_front_peaks: Annotated[list[PeakTarget], AfterValidator(_distinct)] = ["Fp"]
 
 
 class Evaluate(Strict):
@@ -525,6 +528,15 @@ class Params(Strict):
             name = getattr(self, key)
             if name not in presets:
                 raise ValueError(f"{key}: {name!r} is not a preset (have {', '.join(presets)})")
+        return self
+
+    @model_validator(mode="after")
+    def _near_front_peaks_have_a_peak_model(self) -> Params:
+        if missing := [n for n in self.refine.near_front_peaks if n not in self.train.peaks]:
+            raise ValueError(
+                f"refine.near_front_peaks: {missing} have no peak model (train.peaks is "
+                f"{self.train.peaks})"
+            )
         return self
 
     @model_validator(mode="after")

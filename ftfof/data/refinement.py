@@ -14,10 +14,17 @@ import pyarrow as pa
 
 from ftfof.errors import DataError
 
+PREFIX = "refine:"
+
 
 def source(round_: int) -> str:
     """The dataset source of round ``round_``'s rows."""
-    return f"refine:{round_}"
+    return f"{PREFIX}{round_}"
+
+
+def from_rounds(sources: list[str]) -> list[bool]:
+    """Which of these dataset sources are refinement rounds' rows (the optimiser's region)."""
+    return [s.startswith(PREFIX) for s in sources]
 
 
 def round_rows(built: pa.Table, round_: int) -> pa.Table:

@@ -384,7 +384,8 @@ def _rows(params: Params, table: pa.Table, k: int) -> pa.Table:
 
 def _fine_tune(params: Params, data: TrainingData, start: Path, out: Path) -> None:
     """The ``train.use`` models fine-tuned on ``data`` from the weights in ``start``, and the peak
-    models refitted on it -> ``out``."""
+    models refitted on it (with a local GP on the rounds' rows for ``near_front_peaks``) ->
+    ``out``."""
     from ftfof.pipeline.training import train_all
     from ftfof.surrogate.store import load_states, load_surrogate, write_models
 
@@ -400,7 +401,11 @@ def _fine_tune(params: Params, data: TrainingData, start: Path, out: Path) -> No
     states = {loss: s for loss, s in load_states(start).items() if loss == params.train.use}
     peaks = load_surrogate(start).peaks
     run = train_all(
-        params.model_copy(update={"train": tune}), data, warm_start=states, peaks_from=peaks
+        params.model_copy(update={"train": tune}),
+        data,
+        warm_start=states,
+        peaks_from=peaks,
+        near_front_peaks=cfg.near_front_peaks,
     )
     write_models(out, run.results, data, tune, run.peaks)
 

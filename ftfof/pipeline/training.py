@@ -7,7 +7,7 @@ from __future__ import annotations
 import multiprocessing
 import os
 import time
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
@@ -22,17 +22,20 @@ from ftfof.pipeline.digests import models_digest
 from ftfof.pipeline.registry import model_name, weights_tags
 from ftfof.seeds import seed_for
 from ftfof.stats import rank_rho
-from ftfof.surrogate.peaks import PeakModel, fit_peak_model
+from ftfof.surrogate.peaks import NearFront, PeakPredictor, fit_peak_model, near_front
 from ftfof.surrogate.store import PEAKS, TARGETS, TrainingData, weights_file
 from ftfof.trajectory.bezier import DECISION_NAMES
 
 MIN_PEAK_ROWS = 3  # training rows with control values and the target a peak GP needs
+# the refinement rounds' training rows a local GP near the front needs: its 14 hyperparameters
+# are fitted on them (a paper-scale round adds ~43)
+MIN_NEAR_FRONT_ROWS = 20
 
 
 @dataclass
 class Training:
     results: list[dict[str, Any]]  # one per loss: job, state dict, history, metrics, predictions
-    peaks: dict[str, PeakModel]  # target -> the GP of its peak
+    peaks: dict[str, PeakPredictor]  # target -> the GP of its peak
     summary: dict[str, Any]  # the stage's metrics
     wall: float  # seconds
 
@@ -42,14 +45,17 @@ def train_all(
     data: TrainingData,
     *,
     warm_start: Mapping[str, dict[str, np.ndarray]] | None = None,
-    peaks_from: Mapping[str, PeakModel] | None = None,
+    peaks_from: Mapping[str, PeakPredictor] | None = None,
+    near_front_peaks: Sequence[str] = (),
 ) -> Training:
     """Train the multi-output model with every loss, on the same split and seed, then the peak
     models.
 
     ``warm_start`` maps each loss to the state dict its model fine-tunes from (every loss must be
     there); without it every model starts from its seeded initialisation. ``peaks_from``: peak
-    models refitted on ``data`` with their hyperparameters (fine-tuning) instead of fitted anew.
+    models refitted on ``data`` with their hyperparameters (fine-tuning) instead of fitted anew;
+    of those, the ``near_front_peaks`` targets also get a local GP on the refinement rounds' rows
+    (:class:`ftfof.surrogate.peaks.NearFront`) once they have :data:`MIN_NEAR_FRONT_ROWS`.
     """
     cfg = params.train
     jobs = [{"kind": k, "seed": seed_for(params.search_seed, "train", 0)} for k in cfg.losses]
@@ -69,7 +75,7 @@ def train_all(
             peaks = peaks_job.result()
     else:
         results = run_jobs(jobs, data, cfg)
-        peaks = fit_peaks(data, cfg.peaks, previous)
+        peaks = fit_peaks(data, cfg.peaks, previous, near_front_peaks)
     wall = time.perf_counter() - started
     summary: dict[str, Any] = {
         r["kind"]: {
@@ -91,38 +97,53 @@ def train_all(
 
 
 def fit_peaks(
-    data: TrainingData, names: list[str], previous: Mapping[str, PeakModel]
-) -> dict[str, PeakModel]:
+    data: TrainingData,
+    names: list[str],
+    previous: Mapping[str, PeakPredictor],
+    near_front_peaks: Sequence[str] = (),
+) -> dict[str, PeakPredictor]:
     """The GP of each named target's peak on the training split's control values (the rows that
-    have both); refitted from ``previous`` where it has the target. A target with fewer than
-    :data:`MIN_PEAK_ROWS` such rows (a dataset of imported logs, which have no control values)
-    gets none: its peak stays the GRU's series maximum, and the summary says so."""
+    have both); refitted from ``previous`` where it has the target, with a local GP on the
+    refinement rounds' rows for the ``near_front_peaks`` (once there are
+    :data:`MIN_NEAR_FRONT_ROWS` of them). A target with fewer than :data:`MIN_PEAK_ROWS` such
+    rows (a dataset of imported logs, which have no control values) gets none: its peak stays
+    the GRU's series maximum, and the summary says so."""
     from threadpoolctl import threadpool_limits
 
     # one BLAS thread: a multi-threaded Cholesky sums in another order on another core count,
     # and a refit that differs in its last bits sent refinement's search elsewhere
     with threadpool_limits(limits=1):
-        return _fit_peaks(data, names, previous)
+        return _fit_peaks(data, names, previous, near_front_peaks)
 
 
 def _fit_peaks(
-    data: TrainingData, names: list[str], previous: Mapping[str, PeakModel]
-) -> dict[str, PeakModel]:
+    data: TrainingData,
+    names: list[str],
+    previous: Mapping[str, PeakPredictor],
+    near_front_peaks: Sequence[str],
+) -> dict[str, PeakPredictor]:
     X = data.decisions("train")
-    out = {}
+    near = data.from_rounds("train")
+    out: dict[str, PeakPredictor] = {}
     for name in names:
         y = data.peaks("train", name) if name in data.trained else np.full(len(X), np.nan)
         rows = np.isfinite(y) & np.isfinite(X).all(axis=1)
         if rows.sum() < MIN_PEAK_ROWS:
             continue
-        if name in previous:
-            out[name] = previous[name].refit(X[rows], y[rows])
-        else:
+        if name not in previous:
             out[name] = fit_peak_model(name, X[rows], y[rows])
+            continue
+        before = previous[name]
+        broad = (before.broad if isinstance(before, NearFront) else before).refit(X[rows], y[rows])
+        local = rows & near
+        if name in near_front_peaks and local.sum() >= MIN_NEAR_FRONT_ROWS:
+            out[name] = near_front(broad, X[local], y[local])
+        else:
+            out[name] = broad
     return out
 
 
-def peak_metrics(model: PeakModel, data: TrainingData, use: dict[str, Any]) -> dict[str, Any]:
+def peak_metrics(model: PeakPredictor, data: TrainingData, use: dict[str, Any]) -> dict[str, Any]:
     """A peak model's validation errors beside the ``use`` GRU's series maximum, and what it
     learnt: the length scale of each control value (in standard deviations; small = matters)."""
     k = TARGETS.index(model.target)

@@ -13,6 +13,12 @@ The surrogate keeps the GRU's series shape and scales it to the GP's peak
 (:meth:`ftfof.surrogate.predict.Surrogate.predict`), so every reader of the series (the objective,
 the landing constraint, the report's plots) sees one prediction.
 
+Near the front, one GP over the whole design is not enough for the landing press: a stationary
+kernel fitted on 1000 trajectories spread over the box misses the fine structure where the
+optimiser searches (landing-press error 0.08-0.12 N on the next round's points, 3x the
+validation split's). :class:`NearFront` adds a second GP fitted on the refinement rounds' points
+alone and takes it where it knows the trajectory, the broad GP elsewhere (docs/surrogates.md).
+
 Fitting uses scikit-learn's ``GaussianProcessRegressor`` (hyperparameters by maximum marginal
 likelihood); the fitted model is kept as plain arrays (no pickle) and predicts in NumPy, a
 (pop, n_train) kernel product per population. Refinement refits it on the grown data with the
@@ -106,6 +112,71 @@ class PeakModel:
                 for k, v in data.items()
             }
         )
+
+
+@dataclass(frozen=True)
+class NearFront:
+    """A broad peak GP (the whole design) and a local one fitted on the refinement rounds' points
+    alone, blended by how much the local GP knows: w = 1 - its posterior variance / its prior
+    variance (near 1 on the rounds' points, 0 far from them), prediction w local + (1 - w) broad.
+    So the optimiser, wandering off the region the rounds simulated, meets the broad GP there and
+    not the local one's prior mean."""
+
+    broad: PeakModel
+    local: PeakModel
+    local_precision: Array = field(repr=False)  # (K + noise I)^-1 of the local GP, normalised
+
+    @property
+    def target(self) -> str:
+        return self.broad.target
+
+    @property
+    def length_scale(self) -> Array:
+        return self.broad.length_scale
+
+    def __call__(self, decisions: Array) -> Array:
+        w = self.confidence(decisions)
+        return w * self.local(decisions) + (1.0 - w) * self.broad(decisions)
+
+    def confidence(self, decisions: Array) -> Array:
+        """(pop,) the share of the local GP's prior variance its data explain, in [0, 1]."""
+        local = self.local
+        k = local._covariance(local._scaled(decisions), local.train_inputs)
+        explained = ((k @ self.local_precision) * k).sum(axis=1)
+        return np.clip(explained / local.amplitude, 0.0, 1.0)
+
+    def as_dict(self) -> dict:
+        return {
+            "broad": self.broad.as_dict(),
+            "local": self.local.as_dict(),
+            "local_precision": self.local_precision.tolist(),
+        }
+
+    @classmethod
+    def from_dict(cls, data: dict) -> NearFront:
+        local = PeakModel.from_dict(data["local"])
+        n = len(local.train_inputs)
+        precision = np.asarray(data["local_precision"], dtype=float).reshape(n, n)
+        return cls(PeakModel.from_dict(data["broad"]), local, precision)
+
+
+PeakPredictor = PeakModel | NearFront
+
+
+def peak_model_from_dict(data: dict) -> PeakPredictor:
+    """A peak model as :meth:`as_dict` wrote it (either kind)."""
+    return NearFront.from_dict(data) if "local" in data else PeakModel.from_dict(data)
+
+
+def near_front(broad: PeakModel, decisions: Array, peaks: Array) -> NearFront:
+    """``broad`` with a local GP fitted (hyperparameters by maximum likelihood) on the
+    refinement rounds' ``decisions`` and ``peaks``."""
+    local = fit_peak_model(broad.target, decisions, peaks)
+    K = local._covariance(local.train_inputs, local.train_inputs)
+    K[np.diag_indices_from(K)] += local.noise + JITTER
+    precision = cho_solve(cho_factor(K, lower=True), np.eye(len(K)))
+    # C order, as a saved model loads it: the same sums in the same order, fresh or resumed
+    return NearFront(broad, local, np.ascontiguousarray(precision))
 
 
 def peak_kernel(d: int):

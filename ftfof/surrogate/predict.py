@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 from ftfof.data.dataset import Normalization
 from ftfof.data.targets import time_base
 from ftfof.surrogate.gru_kernel import Layer
-from ftfof.surrogate.peaks import PeakModel
+from ftfof.surrogate.peaks import PeakPredictor
 
 Array = NDArray[np.float64]
 
@@ -78,7 +78,7 @@ class Surrogate:
     normalization: Normalization
     seq_len: int
     hold: float
-    peaks: Mapping[str, PeakModel] = field(default_factory=dict)
+    peaks: Mapping[str, PeakPredictor] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if self.model.outputs != len(self.targets):

@@ -20,11 +20,11 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from ftfof.config import Train
-from ftfof.data import dataset
+from ftfof.data import dataset, refinement
 from ftfof.errors import DataError
 from ftfof.pipeline.digests import bytes_sha256
 from ftfof.pipeline.io import atomic_dir, read_table
-from ftfof.surrogate.peaks import PeakModel
+from ftfof.surrogate.peaks import PeakPredictor, peak_model_from_dict
 from ftfof.surrogate.predict import GRUWeights, Surrogate
 from ftfof.trajectory.bezier import DECISION_NAMES
 
@@ -88,6 +88,12 @@ class TrainingData:
             [self.table.column(n).to_numpy()[rows] for n in DECISION_NAMES]
         ).astype(float)
 
+    def from_rounds(self, split: str) -> np.ndarray:
+        """(n,) whether each of the split's samples is a refinement round's (near the front)."""
+        rows = np.asarray(self.table.column("split").to_pylist()) == split
+        sources = np.asarray(self.table.column("source").to_pylist())[rows]
+        return np.asarray(refinement.from_rounds(sources.tolist()), dtype=bool)
+
     def peaks(self, split: str, target: str) -> np.ndarray:
         """(n,) the maximum of one target's series, in its unit (NaN where not supplied)."""
         k = TARGETS.index(target)
@@ -118,7 +124,7 @@ def write_models(
     results: list[dict[str, Any]],
     data: TrainingData,
     cfg: Train,
-    peaks: dict[str, PeakModel],
+    peaks: dict[str, PeakPredictor],
 ) -> None:
     """State dicts of the trained ``results``, normalisation, peak models and config, all or
     nothing."""
@@ -203,7 +209,7 @@ def load_surrogate(
     )
 
 
-def _load_peaks(directory: Path, config: dict[str, Any]) -> dict[str, PeakModel]:
+def _load_peaks(directory: Path, config: dict[str, Any]) -> dict[str, PeakPredictor]:
     """The peak models ``config.json`` lists (none for models trained without them)."""
     names = config.get("peaks", [])
     if not names:
@@ -214,4 +220,4 @@ def _load_peaks(directory: Path, config: dict[str, Any]) -> dict[str, PeakModel]
     saved = json.loads(path.read_text())
     if sorted(saved) != sorted(names):
         raise DataError(str(path), f"holds peak models of {sorted(saved)}, config lists {names}")
-    return {n: PeakModel.from_dict(saved[n]) for n in names}
+    return {n: peak_model_from_dict(saved[n]) for n in names}

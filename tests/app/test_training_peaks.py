@@ -8,10 +8,11 @@ import pyarrow as pa
 import pytest
 
 from ftfof import config
-from ftfof.data import dataset
+from ftfof.data import dataset, refinement
 from ftfof.data.acquisition import to_table
 from ftfof.pipeline import training
 from ftfof.pipeline.training import fit_peaks
+from ftfof.surrogate.peaks import NearFront, PeakModel
 from ftfof.surrogate.store import TrainingData
 from tests.data.fake import fake_acquisition, fake_result
 
@@ -55,3 +56,33 @@ def test_logs_without_control_values_leave_the_peak_to_the_gru():
     results = [fake_result(f"log:{i}", "sampled", i, 3.0 + i % 4) for i in range(20)]
     data = _data(to_table(results, "mst_m3f", "acrylic", {}, 1.0, with_wall_time=False))
     assert fit_peaks(data, ["Fp", "jitter"], {}) == {}
+
+
+def _from_rounds(data: TrainingData, n: int) -> TrainingData:
+    """``data`` with its first ``n`` rows relabelled as a refinement round's."""
+    table = data.table
+    sources = table.column("source").to_pylist()
+    sources[:n] = [refinement.source(1)] * n
+    index = table.schema.get_field_index("source")
+    relabelled = table.set_column(index, table.schema.field(index), pa.array(sources))
+    return TrainingData(relabelled, data.normalization, data.seq_len, data.hold, "digest")
+
+
+def test_refinement_adds_a_local_gp_on_the_rounds_rows_for_the_near_front_peaks(data):
+    first = fit_peaks(data, ["Fp", "body_acc"], {})
+    rounds = _from_rounds(data, 40)
+    near = rounds.from_rounds("train")
+    assert near.sum() >= training.MIN_NEAR_FRONT_ROWS and not near.all()
+    again = fit_peaks(rounds, ["Fp", "body_acc"], first, near_front_peaks=["body_acc"])
+    assert isinstance(again["body_acc"], NearFront) and isinstance(again["Fp"], PeakModel)
+    local = again["body_acc"].local
+    assert local.train_inputs.shape == (near.sum(), 12)  # the rounds' training rows alone
+    np.testing.assert_array_equal(
+        again["body_acc"].broad.length_scale, first["body_acc"].length_scale
+    )
+    # the next round refits the broad GP inside it, and fits a new local one
+    third = fit_peaks(rounds, ["body_acc"], again, near_front_peaks=["body_acc"])["body_acc"]
+    np.testing.assert_array_equal(third.broad.length_scale, first["body_acc"].length_scale)
+    few = _from_rounds(data, training.MIN_NEAR_FRONT_ROWS // 2)
+    alone = fit_peaks(few, ["body_acc"], first, near_front_peaks=["body_acc"])["body_acc"]
+    assert isinstance(alone, PeakModel)  # too few rounds' rows for a local GP yet

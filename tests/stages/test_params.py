@@ -90,6 +90,12 @@ def test_a_use_loss_that_is_not_trained_is_named(tmp_path, params_dict):
     assert "train: use 'dilate' must be one of losses ['mse']" in _error(tmp_path, params_dict)
 
 
+def test_a_near_front_peak_without_a_peak_model_is_named(tmp_path, params_dict):
+    params_dict["train"]["peaks"] = ["jitter"]
+    msg = _error(tmp_path, params_dict)
+    assert "refine.near_front_peaks: ['Fp'] have no peak model (train.peaks is ['jitter'])" in msg
+
+
 def test_unknown_leg_type_is_named(tmp_path, params_dict):
     params_dict["robots"]["mst_q"]["leg"]["type"] = "hexapod"
     msg = _error(tmp_path, params_dict)

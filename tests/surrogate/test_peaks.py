@@ -10,7 +10,13 @@ import pytest
 from sklearn.gaussian_process import GaussianProcessRegressor
 from sklearn.gaussian_process.kernels import RBF, ConstantKernel, WhiteKernel
 
-from ftfof.surrogate.peaks import PeakModel, fit_peak_model
+from ftfof.surrogate.peaks import (
+    NearFront,
+    PeakModel,
+    fit_peak_model,
+    near_front,
+    peak_model_from_dict,
+)
 
 
 def _peak(X: np.ndarray) -> np.ndarray:
@@ -93,3 +99,44 @@ def test_wrong_inputs_are_named(model):
         model(np.zeros((2, 3)))
     with pytest.raises(ValueError, match="2 rows supply the Fp peak"):
         fit_peak_model("Fp", np.zeros((4, 5)), np.array([1.0, 2.0, np.nan, np.nan]))
+
+
+def _rippled(X: np.ndarray) -> np.ndarray:
+    """Smooth over the box, with a fine ripple only near the origin (where a front would lie)."""
+    near = np.exp(-(X**2).sum(axis=1) / 0.02)
+    return 5.0 + X[:, 0] + 0.3 * np.sin(40.0 * X[:, 0]) * near
+
+
+@pytest.fixture(scope="module")
+def near():
+    rng = np.random.default_rng(11)
+    spread = rng.uniform(-1.0, 1.0, size=(150, 2))
+    broad = fit_peak_model("Fp", spread, _rippled(spread))
+    local = rng.uniform(-0.1, 0.1, size=(60, 2))
+    return broad, local, near_front(broad, local, _rippled(local))
+
+
+def test_near_front_learns_what_the_broad_gp_smooths_away(near):
+    broad, _, model = near
+    held_out = np.random.default_rng(12).uniform(-0.1, 0.1, size=(40, 2))
+    truth = _rippled(held_out)
+    broad_error = np.abs(broad(held_out) - truth).mean()
+    assert broad_error > 0.05  # the ripple is there to be missed
+    assert np.abs(model(held_out) - truth).mean() < 0.3 * broad_error
+
+
+def test_near_front_is_the_broad_gp_far_from_the_rounds_points(near):
+    broad, local, model = near
+    far = np.array([[0.9, 0.9], [-0.8, 0.7], [0.7, -0.9]])
+    assert model.confidence(far).max() < 1e-3
+    np.testing.assert_allclose(model(far), broad(far), atol=1e-3)
+    assert model.confidence(local).min() > 0.9
+    assert model.target == "Fp" and model.length_scale is broad.length_scale
+
+
+def test_saved_near_front_model_predicts_the_same(near, model):
+    _, local, fitted = near
+    again = peak_model_from_dict(json.loads(json.dumps(fitted.as_dict())))
+    assert isinstance(again, NearFront)
+    np.testing.assert_array_equal(again(local), fitted(local))
+    assert isinstance(peak_model_from_dict(model.as_dict()), PeakModel)

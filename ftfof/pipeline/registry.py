@@ -84,7 +84,6 @@ def fetch_model(
     if tracked_tags and not _tagged_with(version, tracked_tags):
         twin = _newest_tagged(client, name, tracked_tags)
         if twin is not None:
-            client.set_registered_model_alias(name, alias, twin.version)
             moved_from, version = str(version.version), twin
     source = f"models:/{name}/{version.version}"
     local = Path(mlflow.artifacts.download_artifacts(artifact_uri=source, dst_path=str(into)))
@@ -101,6 +100,8 @@ def fetch_model(
                 f"version {version.version} differs from {kept} "
                 "(models trained elsewhere? re-run `ftfof train`)",
             )
+    if moved_from is not None:  # only once its files are verified: a failed stage moves nothing
+        client.set_registered_model_alias(name, alias, version.version)
     return RegisteredWeights(name, str(version.version), version.run_id, path, moved_from)
 
 

@@ -11,6 +11,7 @@ from sklearn.gaussian_process import GaussianProcessRegressor
 from sklearn.gaussian_process.kernels import RBF, ConstantKernel, WhiteKernel
 
 from ftfof.surrogate.peaks import (
+    LOCAL_MAX_LENGTH_SCALE,
     NearFront,
     PeakModel,
     fit_peak_model,
@@ -140,3 +141,16 @@ def test_saved_near_front_model_predicts_the_same(near, model):
     assert isinstance(again, NearFront)
     np.testing.assert_array_equal(again(local), fitted(local))
     assert isinstance(peak_model_from_dict(model.as_dict()), PeakModel)
+
+
+def test_near_front_is_not_confident_far_along_a_value_the_rounds_peaks_ignore():
+    """The rounds' peaks depend on x0 only: far along x2, 20 of the rounds' deviations off, the
+    local GP must not claim to know (an unbounded length scale would make it blind to x2)."""
+    rng = np.random.default_rng(13)
+    spread = rng.uniform(-1.0, 1.0, size=(120, 3))
+    broad = fit_peak_model("Fp", spread, 5.0 + spread[:, 0])
+    local = rng.uniform(-0.1, 0.1, size=(50, 3))
+    model = near_front(broad, local, 5.0 + local[:, 0] + 0.05 * np.sin(60.0 * local[:, 0]))
+    assert model.local.length_scale[2] <= LOCAL_MAX_LENGTH_SCALE
+    off = np.array([[0.0, 0.0, 20.0 * local[:, 2].std()]])
+    assert model.confidence(local).min() > 0.9 and model.confidence(off)[0] < 0.1

@@ -10,6 +10,7 @@ import pyarrow.parquet as pq
 import pytest
 from typer.testing import CliRunner
 
+from ftfof.pipeline import training
 from ftfof.pipeline.digests import models_digest
 from ftfof.pipeline.jobs import Acquisition
 from ftfof.trajectory.bezier import DECISION_NAMES
@@ -23,6 +24,15 @@ runner = CliRunner()
 # A target no surrogate meets: every round runs.
 UNREACHABLE = {"spearman": 1.0, "relative_error": 1e-12, "clean": 1.0}
 REFINE = {"rounds": 2, "points": 3, "epochs": 2, "patience": 1, "generations": 3}
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _near_front_from_round_one():
+    """A tiny round adds about three training rows: let them have a local landing GP, so the
+    rounds, and a resumed run's rebuild of them, go through NearFront as at paper scale."""
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(training, "MIN_NEAR_FRONT_ROWS", 2)
+        yield
 
 
 @pytest.fixture(scope="module")
@@ -103,6 +113,12 @@ def test_final_models_and_optimum_are_the_last_rounds(optimized, refined):
     optimum = json.loads((refined / "optimize" / "optimum.json").read_text())
     assert optimum["models_digest"] == models_digest(refined / "models")
     assert models_digest(refined / "models") != models_digest(tmp / "models")  # fine-tuned
+    # each round's landing GP gets a local part on the rounds' training rows so far
+    local = [
+        json.loads((refined / f"round-{k}" / "models" / "peaks.json").read_text())["Fp"]["local"]
+        for k in (1, 2)
+    ]
+    assert 0 < len(local[0]["train_inputs"]) < len(local[1]["train_inputs"])
     # round 2 re-simulated round 1's optimum
     first = json.loads((refined / "round-1" / "optimize" / "optimum.json").read_text())
     sims = pq.read_table(refined / "round-2" / "simulations" / "samples.parquet").to_pandas()

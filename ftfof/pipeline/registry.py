@@ -78,17 +78,14 @@ def fetch_model(
             f"not in the MLflow registry at {mlflow.get_tracking_uri()} (run `ftfof train`)",
         ) from None
     moved_from = None
-    tracked_tags = (
-        weights_tags(models_dir, loss) if (models_dir / weights_file(loss)).is_file() else {}
-    )
-    if tracked_tags and not _tagged_with(version, tracked_tags):
-        twin = _newest_tagged(client, name, tracked_tags)
+    tracked = models_dir / weights_file(loss)
+    if tracked.is_file() and not _tagged_with(version, tags := weights_tags(models_dir, loss)):
+        twin = _newest_tagged(client, name, tags)
         if twin is not None:
             moved_from, version = str(version.version), twin
     source = f"models:/{name}/{version.version}"
     local = Path(mlflow.artifacts.download_artifacts(artifact_uri=source, dst_path=str(into)))
     path = local / "extra_files" / weights_file(loss)
-    tracked = models_dir / weights_file(loss)
     if not path.is_file():
         raise DataError(uri, f"model version {version.version} carries no {path.name}")
     for carried, kept in ((path, tracked), (path.parent / PEAKS, models_dir / PEAKS)):

@@ -14,7 +14,7 @@ The surrogate keeps the GRU's series shape and scales it to the GP's peak
 the landing constraint, the report's plots) sees one prediction.
 
 Near the front, one GP over the whole design is not enough for the landing press: a stationary
-kernel fitted on 1000 trajectories spread over the box misses the fine structure where the
+kernel fitted on 850 trajectories spread over the box misses the fine structure where the
 optimiser searches (landing-press error 0.08-0.12 N on the next round's points, 3x the
 validation split's). :class:`NearFront` adds a second GP fitted on the refinement rounds' points
 alone and takes it where it knows the trajectory, the broad GP elsewhere (docs/surrogates.md).

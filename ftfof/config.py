@@ -429,6 +429,17 @@ class Refine(Strict):
     near_front_peaks: Annotated[list[PeakTarget], AfterValidator(_distinct)] = ["Fp"]
 
 
+class Polish(Strict):
+    """NSGA-II on the simulator, from the candidates the last check passed (optimize/polish.py)."""
+
+    generations: NonNegativeInt = 10  # 0: evaluate gets refine's optimum as it is
+    population: Annotated[int, Field(ge=4)] = 16  # trajectories per generation
+    # how many of the robot's objectives, in priority order, the simulator's NSGA-II weighs; the
+    # choice among its result is RHS on all of them, as measured
+    priorities: PositiveInt = 2
+    spread: PositiveFloat = 1e-3  # m: the error of the copies that fill a short first population
+
+
 class Evaluate(Strict):
     """Re-simulation of the optimum against the baselines, and the controller export (§11)."""
 
@@ -519,6 +530,7 @@ class Params(Strict):
     train: Train = Train()
     optimize: Optimize = Optimize()
     refine: Refine = Refine()
+    polish: Polish = Polish()
     evaluate: Evaluate = Evaluate()
 
     @model_validator(mode="after")
@@ -536,6 +548,16 @@ class Params(Strict):
             raise ValueError(
                 f"refine.near_front_peaks: {missing} have no peak model (train.peaks is "
                 f"{self.train.peaks})"
+            )
+        return self
+
+    @model_validator(mode="after")
+    def _polish_weighs_objectives_the_robot_has(self) -> Params:
+        have = self.selected_robot.objectives
+        if self.polish.priorities > len(have):
+            raise ValueError(
+                f"polish.priorities: {self.polish.priorities} is more than robot {self.robot!r}'s "
+                f"{len(have)} objectives ({', '.join(have)})"
             )
         return self
 

@@ -25,6 +25,7 @@ Stream = Literal[
     "bench",  # draws of the benchmarks under bench/
     "refine",  # the feasible draws that fill a refinement round's warm-started population
     "verify",  # the perturbed copies of a simulator-checked candidate, one child per row
+    "polish",  # NSGA-II on the simulator and the copies that fill its first population
 ]
 STREAMS: tuple[Stream, ...] = get_args(Stream)
 

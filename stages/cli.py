@@ -13,6 +13,7 @@ from stages import (
     evaluate,
     import_logs,
     optimize,
+    polish,
     profile,
     refine,
     sample,
@@ -46,6 +47,7 @@ app.command("import-logs")(import_logs.command)
 app.command("train")(train.command)
 app.command("optimize")(optimize.command)
 app.command("refine")(refine.command)
+app.command("polish")(polish.command)
 app.command("evaluate")(evaluate.command)
 app.command("profile")(profile.command)
 app.command("simulate")(simulate.command)

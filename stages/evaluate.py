@@ -13,7 +13,7 @@ import typer
 
 from stages.common import ParamsOption, console, stage
 
-OPTIMIZE = Path("data/refine/optimize")
+OPTIMIZE = Path("data/polish/optimize")
 MODELS = Path("data/refine/models")
 REFINE = Path("reports/refine.json")
 OUT = Path("data/evaluate")
@@ -26,7 +26,7 @@ FIGURES = Path("reports")
 @stage
 def command(
     params_path: Annotated[Path, ParamsOption] = Path("params.yaml"),
-    optimize: Annotated[Path, typer.Option(help="Optimum and front (refine's).")] = OPTIMIZE,
+    optimize: Annotated[Path, typer.Option(help="Optimum and front (polish's).")] = OPTIMIZE,
     models: Annotated[Path, typer.Option(help="The surrogates it was found on.")] = MODELS,
     figures: Annotated[Path, typer.Option(help="Where the stages' PNGs are.")] = FIGURES,
     refine: Annotated[Path, typer.Option(help="The refinement report (JSON).")] = REFINE,

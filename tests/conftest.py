@@ -91,6 +91,27 @@ def refine_args(params: Path, trained: Path, optimize: Path, out: Path, figure: 
     )
 
 
+def polish_args(params: Path, refine: Path, out: Path) -> list[str]:
+    """`ftfof polish` from refine's output ``refine``; its report is ``out`` + ``.json``."""
+    return cli_args(
+        "polish",
+        params,
+        optimize=refine / "optimize",
+        models=refine / "models",
+        out=out,
+        report=out.with_suffix(".json"),
+    )
+
+
+def tree_bytes(directory: Path) -> dict[str, bytes]:
+    """Every file under ``directory`` by relative path: two trees compare byte for byte."""
+    return {
+        p.relative_to(directory).as_posix(): p.read_bytes()
+        for p in sorted(directory.rglob("*"))
+        if p.is_file()
+    }
+
+
 def write_params(path: Path, data: dict) -> Path:
     path.write_text(yaml.safe_dump(data, sort_keys=False))
     return path

@@ -15,7 +15,7 @@ from tests.pipeline import clone_to, run
 
 pytestmark = pytest.mark.slow
 
-STAGES = ("sample", "acquire", "dataset", "train", "optimize", "refine", "evaluate")
+STAGES = ("sample", "acquire", "dataset", "train", "optimize", "refine", "polish", "evaluate")
 REPRODUCIBLE = {
     "sample": "data/trajectories.parquet",
     "acquire": "data/acquisition",
@@ -23,6 +23,7 @@ REPRODUCIBLE = {
     "train": "data/models",
     "optimize": "data/optimize",
     "refine": "data/refine",
+    "polish": "data/polish",
 }
 
 
@@ -56,7 +57,9 @@ def test_every_stage_wrote_its_outputs(repo):
     refined = pq.read_table(repo / "data/refine/dataset/samples.parquet").to_pandas()
     for r in rounds:
         assert (refined.source == f"refine:{r['round']}").sum() == r["added"]
-    evaluated = json.loads((repo / "data/refine/optimize/optimum.json").read_text())
+    polish = json.loads((repo / "reports/polish.json").read_text())
+    assert polish["polished"] and polish["simulated"] > 0
+    evaluated = json.loads((repo / "data/polish/optimize/optimum.json").read_text())
     metrics = json.loads((repo / "reports/metrics.json").read_text())
     assert evaluated["front_row"] == metrics["optimum_front_row"]
     assert evaluated["origin"] == metrics["optimum_origin"]
@@ -88,9 +91,11 @@ def test_mlflow_store_holds_every_tracked_stage(repo):
     experiment = client.get_experiment_by_name("ftfof-mst_m3f")
     runs = client.search_runs([experiment.experiment_id])
     names = {r.info.run_name for r in runs}
-    assert {"train", "optimize", "refine", "evaluate"} <= names
+    assert {"train", "optimize", "refine", "polish", "evaluate"} <= names
     evaluate = next(r for r in runs if r.info.run_name == "evaluate")
-    refine = client.get_run(evaluate.data.tags["ftfof.optimize_run"])
+    polish = client.get_run(evaluate.data.tags["ftfof.optimize_run"])
+    assert polish.info.run_name == "polish"
+    refine = client.get_run(polish.data.tags["ftfof.optimize_run"])
     assert refine.info.run_name == "refine"
     optimize = client.get_run(refine.data.tags["ftfof.optimize_run"])
     assert optimize.info.run_name == "optimize"

@@ -24,6 +24,7 @@ from ftfof.evaluate.export import ControllerTrajectory, ExportRateError, control
 from ftfof.evaluate.fidelity import Fidelity, fidelity, simulated_objectives
 from ftfof.evaluate.table import COLUMNS, PAPER_TABLE_I, PEAKS, TableRow, table_one
 from ftfof.kinematics.legs import build_leg
+from ftfof.optimize.polish import POLISH
 from ftfof.optimize.select import FRONT
 from ftfof.robot import RobotContext
 from ftfof.sim.film import FilmLimit, film_limit
@@ -334,7 +335,8 @@ def context(
         "optimum_row": inputs.optimum["front_row"],
         "optimum_origin": inputs.optimum["origin"],
         "front_size": int((inputs.front.origin == FRONT).sum()),
-        "nominees": int((inputs.front.origin != FRONT).sum()),
+        "nominees": int(((inputs.front.origin != FRONT) & (inputs.front.origin != POLISH)).sum()),
+        "polished": int((inputs.front.origin == POLISH).sum()),
         "reference": params.evaluate.reference,
         "columns": [
             {

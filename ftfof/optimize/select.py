@@ -124,13 +124,7 @@ def choose(
         free = np.vstack([free, policy.contract(nominees.X)])
         origin += nominees.origin
     evaluation = problem.evaluate_population(free)
-    fine = ConstraintPolicy(
-        ctx.robot,
-        ctx.limits,
-        params.feasibility.model_copy(update={"n_t": cfg.recheck_samples}),
-        ctx.name,
-    )
-    recheck = fine.check(evaluation.X)
+    recheck = fine_policy(params, ctx).check(evaluation.X)
     passing = np.flatnonzero(recheck.feasible)
     members, nominated = passing[passing < size], passing[passing >= size]
     if members.size == 0:
@@ -183,6 +177,13 @@ def choose(
         "models_digest": models_digest,
     }
     return Outcome(evaluation, recheck, passing, index, rhs, candidates, summary, verdicts, origin)
+
+
+def fine_policy(params: Params, ctx: RobotContext) -> ConstraintPolicy:
+    """The robot's rules on ``optimize.recheck_samples`` points: the recheck every chosen
+    trajectory passes, independently of the grid the search used."""
+    fine = params.feasibility.model_copy(update={"n_t": params.optimize.recheck_samples})
+    return ConstraintPolicy(ctx.robot, ctx.limits, fine, ctx.name)
 
 
 def verified_rhs(

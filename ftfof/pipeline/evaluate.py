@@ -170,10 +170,10 @@ def front_specs(
 
 def _track(params: Params, inputs: Inputs, summary: dict, artifacts: tuple[Path, ...]) -> None:
     """An `evaluate` run with the table and fidelity as metrics, linked to the run that wrote its
-    optimum (`refine`, or `optimize` when evaluate is pointed at the optimize stage's output)."""
+    optimum (`polish`; `refine` or `optimize` when evaluate is pointed at their output)."""
     experiment = tracking.experiment_name(params.robot)
     mlflow = tracking.setup(experiment)
-    for source in ("refine", "optimize"):  # the run that wrote the optimum: refine passes it on
+    for source in ("polish", "refine", "optimize"):  # the run that wrote the optimum
         link, found = tracking.link_tags(
             mlflow,
             experiment,

@@ -304,3 +304,21 @@ def versions() -> dict[str, str]:
     import exudyn
 
     return {"ftfof": ftfof.__version__, "exudyn": exudyn.__version__}
+
+
+def open_resumable(out: Path, identity: dict[str, object]) -> str:
+    """The fingerprint of ``identity`` and the code versions. ``out`` is kept only to resume an
+    interrupted run of the same fingerprint; otherwise it is emptied and marked incomplete."""
+    key = json_sha256({**identity, "versions": versions()})
+    manifest = out / MANIFEST
+    saved = json.loads(manifest.read_text()) if manifest.exists() else {}
+    if saved.get("fingerprint") != key or saved.get("complete", True):
+        if out.exists():
+            shutil.rmtree(out)
+        write_json(manifest, {"fingerprint": key, "complete": False})
+    return key
+
+
+def close_resumable(out: Path, key: str) -> None:
+    """Mark the run of ``key`` in ``out`` complete: the next run starts afresh."""
+    write_json(out / MANIFEST, {"fingerprint": key, "complete": True})

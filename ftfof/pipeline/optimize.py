@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pyarrow.parquet as pq
 
-from ftfof.config import Params
+from ftfof.config import Optimize, Params
 from ftfof.optimize.problem import PhysicalLimits, TrajectoryProblem
 from ftfof.optimize.search import (
     ConvergenceRecord,
@@ -98,22 +98,7 @@ def build_setup(
 
     ctx = robot_context(params)
     cfg = params.optimize
-    robot = ctx.robot
-    problem = TrajectoryProblem(
-        ctx.policy,
-        surrogate,
-        robot.objectives,
-        robot.pre_pressure,
-        PhysicalLimits(
-            film_limit(robot, params.selected_surface).radius,
-            robot.foot.swing_clearance,
-            params.platform.protocol.switch_height,
-            ctx.policy.timing.T2,
-            robot.pre_pressure,
-            robot.landing_tolerance,
-            robot.retouch_allowed,
-        ),
-    )
+    problem = build_problem(params, ctx, surrogate)
     unseen = set(problem.limits.asked()) - set(problem.physical)
     if unseen:
         console.print(
@@ -147,12 +132,32 @@ def build_setup(
     return Setup(ctx, problem, settings, initial, digest, registered)
 
 
-def write_front(out: Path, outcome: Outcome, setup: Setup, params: Params) -> None:
-    """``front.parquet`` and ``optimum.json`` in ``out``, all or nothing: what evaluate reads."""
-    digest = setup.models_digest
+def build_problem(params: Params, ctx: RobotContext, surrogate: Surrogate) -> TrajectoryProblem:
+    """The robot's objectives and physical limits on ``surrogate``: what the search minimises."""
+    robot = ctx.robot
+    return TrajectoryProblem(
+        ctx.policy,
+        surrogate,
+        robot.objectives,
+        robot.pre_pressure,
+        PhysicalLimits(
+            film_limit(robot, params.selected_surface).radius,
+            robot.foot.swing_clearance,
+            params.platform.protocol.switch_height,
+            ctx.policy.timing.T2,
+            robot.pre_pressure,
+            robot.landing_tolerance,
+            robot.retouch_allowed,
+        ),
+    )
+
+
+def write_front(out: Path, outcome: Outcome, ctx: RobotContext, digest: str, cfg: Optimize) -> None:
+    """``front.parquet`` and ``optimum.json`` in ``out``, all or nothing: what evaluate reads.
+    ``digest`` names the surrogates that predicted the front's objectives."""
     with atomic_dir(out) as tmp:
-        pq.write_table(front_table(outcome, setup.ctx, digest), tmp / "front.parquet")
-        optimum = optimum_record(outcome, setup.ctx, params.optimize, digest)
+        pq.write_table(front_table(outcome, ctx, digest), tmp / "front.parquet")
+        optimum = optimum_record(outcome, ctx, cfg, digest)
         (tmp / "optimum.json").write_text(json.dumps(optimum, indent=2, sort_keys=True) + "\n")
 
 
@@ -170,7 +175,7 @@ def write_outputs(
         to.pcp: pcp_figure(F, names, chosen, title),
     }
     records = [r.as_dict() for r in result.history]
-    write_front(to.out, outcome, setup, params)
+    write_front(to.out, outcome, setup.ctx, setup.models_digest, params.optimize)
     write_json(to.metrics, outcome.summary)
     with atomic_path(to.convergence) as path:
         path.write_text(convergence_csv(records))

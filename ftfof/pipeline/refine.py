@@ -56,13 +56,12 @@ from ftfof.pipeline.console import console
 from ftfof.pipeline.digests import file_sha256, json_sha256, models_digest, optimum_digest
 from ftfof.pipeline.evaluate import check_models, front_specs, read_inputs
 from ftfof.pipeline.io import atomic_dir, read_table, save_figure, write_json
-from ftfof.pipeline.jobs import FINAL, Acquisition, versions
+from ftfof.pipeline.jobs import FINAL, Acquisition, close_resumable, open_resumable
 from ftfof.robot import RobotContext, robot_context
 from ftfof.seeds import seed_for
 from ftfof.surrogate.store import FILE, TrainingData, read_dataset
 from ftfof.trajectory.bezier import DECISION_NAMES
 
-MANIFEST = "manifest.json"
 ROUND = "round.json"
 DIGITS = 6  # of the fidelity numbers in round.json and the report
 
@@ -137,34 +136,26 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> dict[str, A
     write_json(paths.report, report)
     save_figure(refine_figure(report["rounds"], inputs.objectives), paths.figure)
     _track(params, paths, report["rounds"], (paths.report, paths.figure))
-    write_json(paths.out / MANIFEST, {"fingerprint": key, "complete": True})
+    close_resumable(paths.out, key)
     return report
 
 
 def _open(params: Params, paths: Paths) -> str:
     """The run's fingerprint; ``paths.out`` is kept only to resume an interrupted run of it."""
-    key = json_sha256(
-        {
-            "params": params.model_dump(
-                exclude={
-                    "acquire": {"workers", "scheduler", "batch"},
-                    "evaluate": True,
-                    "logs": True,
-                }
-            ),
-            "dataset": file_sha256(paths.dataset / FILE),
-            "models": models_digest(paths.models),
-            "optimum": optimum_digest(paths.optimize),
-            "versions": versions(),
-        }
-    )
-    manifest = paths.out / MANIFEST
-    saved = json.loads(manifest.read_text()) if manifest.exists() else {}
-    if saved.get("fingerprint") != key or saved.get("complete", True):
-        if paths.out.exists():
-            shutil.rmtree(paths.out)
-        write_json(manifest, {"fingerprint": key, "complete": False})
-    return key
+    identity = {
+        "params": params.model_dump(
+            exclude={
+                "acquire": {"workers", "scheduler", "batch"},
+                "polish": True,
+                "evaluate": True,
+                "logs": True,
+            }
+        ),
+        "dataset": file_sha256(paths.dataset / FILE),
+        "models": models_digest(paths.models),
+        "optimum": optimum_digest(paths.optimize),
+    }
+    return open_resumable(paths.out, identity)
 
 
 def _round(
@@ -433,7 +424,7 @@ def _search(
     result = search(setup.problem, setup.settings, setup.initial)
     check = simulator_check(params, setup.ctx)  # as optimize: the simulator disposes
     outcome = choose(params, setup.ctx, setup.problem, result, setup.models_digest, check, nominees)
-    write_front(out, outcome, setup, params)
+    write_front(out, outcome, setup.ctx, setup.models_digest, params.optimize)
 
 
 def _publish(paths: Paths, state: State, data: TrainingData) -> None:

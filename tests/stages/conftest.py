@@ -1,4 +1,5 @@
-"""Fixtures shared by the stage tests: an optimised, refined (no rounds) and evaluated tiny run."""
+"""Fixtures shared by the stage tests: an optimised, refined (no rounds), polished and evaluated
+tiny run."""
 
 import copy
 import shutil
@@ -7,17 +8,21 @@ import pytest
 from typer.testing import CliRunner
 
 from stages.cli import app
-from tests.conftest import cli_args, optimize_args, refine_args, write_params
+from tests.conftest import cli_args, optimize_args, polish_args, refine_args, write_params
 
 runner = CliRunner()
 TINY_OPTIMIZE = {"population": 12, "generations": 4, "log_every": 2, "recheck_samples": 512}
+TINY_POLISH = {"population": 4, "generations": 2}
 
 
 @pytest.fixture(scope="module")
-def evaluated(trained, tmp_path_factory):
+def refined_tiny(trained, tmp_path_factory):
+    """The tiny models optimised, and refine (no rounds) passing the optimum on: what polish
+    starts from. (work, params path, MLflow env, params data, the train directory)"""
     tmp, uri, data = trained
     data = copy.deepcopy(data)
     data["optimize"] = {**data["optimize"], **TINY_OPTIMIZE}
+    data["polish"] = {**data.get("polish", {}), **TINY_POLISH}
     data["evaluate"] = {**data["evaluate"], "front_points": 2, "export_rate_hz": 200}
     data["refine"] = {**data["refine"], "rounds": 0}
     data["acquire"] = {**data["acquire"], "workers": 2}
@@ -27,19 +32,27 @@ def evaluated(trained, tmp_path_factory):
     figures.mkdir()
     for source, target in (("loss", "train_loss"), ("pred", "train_predictions")):
         shutil.copy(tmp / f"models_{source}.png", figures / f"{target}.png")
-    optimize = optimize_args(params, tmp / "models", work, figures)
     env = {"MLFLOW_TRACKING_URI": uri}
-    result = runner.invoke(app, optimize, env=env)
+    result = runner.invoke(app, optimize_args(params, tmp / "models", work, figures), env=env)
     assert result.exit_code == 0, result.output
     refine = refine_args(
         params, tmp, work / "optimize", work / "refine", figures / "refine_fidelity.png"
     )
     result = runner.invoke(app, refine, env=env)  # refine.rounds: 0 passes the optimum on
     assert result.exit_code == 0, result.output
+    return work, params, env, data, tmp
+
+
+@pytest.fixture(scope="module")
+def evaluated(refined_tiny):
+    work, params, env, data, _ = refined_tiny
+    figures = work / "figures"
+    result = runner.invoke(app, polish_args(params, work / "refine", work / "polish"), env=env)
+    assert result.exit_code == 0, result.output
     evaluate = cli_args(
         "evaluate",
         params,
-        optimize=work / "refine" / "optimize",
+        optimize=work / "polish" / "optimize",
         models=work / "refine" / "models",
         refine=work / "refine.json",
         figures=figures,
@@ -50,4 +63,4 @@ def evaluated(trained, tmp_path_factory):
     )
     result = runner.invoke(app, evaluate, env=env)
     assert result.exit_code == 0, result.output
-    return work, uri, data, evaluate
+    return work, env["MLFLOW_TRACKING_URI"], data, evaluate

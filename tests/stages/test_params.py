@@ -96,6 +96,12 @@ def test_a_near_front_peak_without_a_peak_model_is_named(tmp_path, params_dict):
     assert "refine.near_front_peaks: ['Fp'] have no peak model (train.peaks is ['jitter'])" in msg
 
 
+def test_polishing_more_objectives_than_the_robot_has_is_named(tmp_path, params_dict):
+    params_dict["polish"] = {"priorities": 7}
+    msg = _error(tmp_path, params_dict)
+    assert "polish.priorities: 7 is more than robot 'mst_m3f''s 6 objectives" in msg
+
+
 def test_unknown_leg_type_is_named(tmp_path, params_dict):
     params_dict["robots"]["mst_q"]["leg"]["type"] = "hexapod"
     msg = _error(tmp_path, params_dict)

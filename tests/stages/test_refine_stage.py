@@ -15,7 +15,7 @@ from ftfof.pipeline.digests import models_digest
 from ftfof.pipeline.jobs import Acquisition
 from ftfof.trajectory.bezier import DECISION_NAMES
 from stages.cli import app
-from tests.conftest import optimize_args, refine_args, write_params
+from tests.conftest import optimize_args, refine_args, tree_bytes, write_params
 from tests.stages.conftest import TINY_OPTIMIZE
 
 pytestmark = pytest.mark.integration
@@ -67,14 +67,6 @@ def refined(optimized):
     return out
 
 
-def _files(directory):
-    return {
-        p.relative_to(directory).as_posix(): p.read_bytes()
-        for p in sorted(directory.rglob("*"))
-        if p.is_file()
-    }
-
-
 def test_two_rounds_append_rows_with_their_source_and_hold_some_out(optimized, refined):
     tmp, work, _, _ = optimized
     report = json.loads((work / "two_rounds.json").read_text())
@@ -108,8 +100,8 @@ def test_two_rounds_append_rows_with_their_source_and_hold_some_out(optimized, r
 
 def test_final_models_and_optimum_are_the_last_rounds(optimized, refined):
     tmp, *_ = optimized
-    assert _files(refined / "models") == _files(refined / "round-2" / "models")
-    assert _files(refined / "optimize") == _files(refined / "round-2" / "optimize")
+    assert tree_bytes(refined / "models") == tree_bytes(refined / "round-2" / "models")
+    assert tree_bytes(refined / "optimize") == tree_bytes(refined / "round-2" / "optimize")
     optimum = json.loads((refined / "optimize" / "optimum.json").read_text())
     assert optimum["models_digest"] == models_digest(refined / "models")
     assert models_digest(refined / "models") != models_digest(tmp / "models")  # fine-tuned
@@ -194,7 +186,7 @@ def test_a_killed_round_resumes_without_losing_or_resimulating(optimized, refine
         for k in (1, 2)
     ]
     assert sum(written[1:]) == sum(per_round) - 1  # the killed part was not simulated again
-    assert _files(out) == _files(refined)  # every sample, model and front as uninterrupted
+    assert tree_bytes(out) == tree_bytes(refined)  # every sample, model and front as uninterrupted
 
 
 def test_a_run_killed_in_round_two_rebuilds_round_one_as_it_was(optimized, refined, monkeypatch):
@@ -214,7 +206,7 @@ def test_a_run_killed_in_round_two_rebuilds_round_one_as_it_was(optimized, refin
     result, out = _refine(optimized, "resumed_late")
     assert result.exit_code == 0, result.output
     # round 2's nominees, refusals and training rows come from round 1's files on disk
-    assert _files(out) == _files(refined)
+    assert tree_bytes(out) == tree_bytes(refined)
 
 
 def test_a_met_target_stops_before_training(optimized):
@@ -224,8 +216,8 @@ def test_a_met_target_stops_before_training(optimized):
     assert result.exit_code == 0, result.output
     (only,) = json.loads((work / "met.json").read_text())["rounds"]
     assert only["added"] == 0 and not (out / "round-1" / "models").exists()
-    assert _files(out / "optimize") == _files(work / "optimize")
-    assert _files(out / "models") == _files(tmp / "models")
+    assert tree_bytes(out / "optimize") == tree_bytes(work / "optimize")
+    assert tree_bytes(out / "models") == tree_bytes(tmp / "models")
 
 
 def test_zero_rounds_pass_the_optimize_outputs_on(optimized):
@@ -233,6 +225,6 @@ def test_zero_rounds_pass_the_optimize_outputs_on(optimized):
     result, out = _refine(optimized, "none", rounds=0)
     assert result.exit_code == 0, result.output
     assert json.loads((work / "none.json").read_text()) == {"rounds": []}
-    assert _files(out / "optimize") == _files(work / "optimize")
-    assert _files(out / "models") == _files(tmp / "models")
-    assert _files(out / "dataset") == _files(tmp / "ds")
+    assert tree_bytes(out / "optimize") == tree_bytes(work / "optimize")
+    assert tree_bytes(out / "models") == tree_bytes(tmp / "models")
+    assert tree_bytes(out / "dataset") == tree_bytes(tmp / "ds")

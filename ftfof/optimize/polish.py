@@ -1,0 +1,128 @@
+"""Polish in simulation: NSGA-II whose objectives the platform measures, started from the
+trajectories the simulator check passed.
+
+The surrogate search ends where the surrogates stop telling near neighbours apart: the pull and
+jitter GRUs err by more than the differences RHS weighs at the front's best, and jitter is rough
+on the scale of a 0.2 mm encoder error (docs/rhs.md). A few generations of NSGA-II on the
+simulator itself, each trajectory judged as the check judges it (every rule on the fine grid, the
+film, the release, the landing and the body limit, over the nominal run and its perturbed copies),
+move the verified candidates to where the simulator, not the surrogate, says they are better.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from pymoo.core.problem import Problem
+
+from ftfof.optimize.search import ConvergenceRecord, SearchSettings, search
+from ftfof.optimize.select import SimulatorCheck, Verdict
+from ftfof.trajectory.policy import ConstraintPolicy
+
+Array = NDArray[np.float64]
+POLISH = "polish"  # the origin of polished rows in a front table
+
+
+class SimulatedProblem(Problem):
+    """The robot's first ``priorities`` objectives as the simulator check measures them (the
+    mean over its runs), with two constraints: the rules on ``policy``'s grid (the summed
+    violation) and the check's verdict (1 refused, 0 passed). Rows that break a rule are not
+    simulated. Every simulated row's verdict is kept by its decision bytes."""
+
+    def __init__(
+        self,
+        policy: ConstraintPolicy,
+        check: SimulatorCheck,
+        priorities: int,
+        first_row: int,
+        known: dict[bytes, Verdict] | None = None,
+    ):
+        super().__init__(
+            n_var=policy.n_free, n_obj=priorities, n_ieq_constr=2, xl=policy.lower, xu=policy.upper
+        )
+        self.policy, self.check, self.priorities = policy, check, priorities
+        self.known = dict(known or {})  # verdicts measured before the search: not simulated again
+        self.verdicts: dict[bytes, Verdict] = {}
+        self.next_row = first_row  # the row the check gets for the next simulated trajectory
+
+    def _evaluate(self, U, out, *args, **kwargs) -> None:
+        X = self.policy.expand(np.atleast_2d(U))
+        rules = self.policy.check(X)
+        excess = np.nansum(np.clip(rules.violations, 0.0, None), axis=1)
+        broken = np.where(rules.feasible, 0.0, np.maximum(excess, 1e-12))
+        refused = np.ones(len(X))
+        F = np.full((len(X), self.priorities), np.nan)
+        feasible = np.flatnonzero(rules.feasible)
+        run = [i for i in feasible if X[i].tobytes() not in self.known]
+        rows = list(range(self.next_row, self.next_row + len(run)))
+        self.next_row += len(run)
+        judged = dict(zip(run, self.check(rows, X[run]) if run else [], strict=True))
+        for i in feasible:
+            verdict = judged[i] if i in judged else self.known[X[i].tobytes()]
+            if i in judged:
+                self.verdicts[X[i].tobytes()] = verdict
+            if verdict.ok:
+                F[i] = verdict.simulated[: self.priorities]
+                refused[i] = 0.0
+        # pymoo ranks the unmeasured rows by their violation first; these values only keep its
+        # statistics (crowding, the convergence record's scale) finite
+        measured = ~np.isnan(F[:, 0])
+        out["F"] = np.where(np.isnan(F), F[measured].max(axis=0) if measured.any() else 0.0, F)
+        out["G"] = np.column_stack([broken, refused])
+
+
+@dataclass(frozen=True)
+class Polished:
+    """The simulator's non-dominated trajectories after the polish, each with its verdict."""
+
+    X: Array  # (k, 12) full decision rows, every one passed by the check
+    verdicts: list[Verdict]  # in the order of X (rows as the check or the start numbered them)
+    history: tuple[ConvergenceRecord, ...]  # hypervolume of the measured front per generation
+    simulated: int  # trajectories the check judged in the search (each with its copies)
+    refused: int  # of those, refused
+    seconds: float
+
+
+def start_population(start: Array, size: int, scale: float, seed: int, policy: ConstraintPolicy):
+    """``size`` free-variable rows: the distinct ``start`` rows (full decision rows), then copies
+    of them in turn with every free value off by a normal error of ``scale``, kept in the box."""
+    free = np.unique(policy.contract(np.atleast_2d(start)), axis=0)
+    if len(free) >= size:
+        return free[:size]
+    rng = np.random.default_rng(seed)
+    parents = free[np.arange(size - len(free)) % len(free)]
+    copies = np.clip(parents + rng.normal(0.0, scale, parents.shape), policy.lower, policy.upper)
+    return np.vstack([free, copies])
+
+
+def polish(
+    policy: ConstraintPolicy,
+    check: SimulatorCheck,
+    start: Array,
+    settings: SearchSettings,
+    priorities: int,
+    spread: float,
+    first_row: int = 0,
+    start_verdicts: Sequence[Verdict] | None = None,
+) -> Polished:
+    """NSGA-II on :class:`SimulatedProblem` from ``start`` (full decision rows, filled up to the
+    population with copies off by ``spread``). ``start_verdicts``, one per start row, are the
+    check's earlier verdicts on them: taken as measured, not simulated again. Deterministic for
+    the seed and the check. An empty result when no trajectory passed."""
+    started = time.perf_counter()
+    as_searched = policy.expand(policy.contract(np.atleast_2d(start)))  # the bytes pymoo asks
+    earlier = start_verdicts if start_verdicts is not None else [None] * len(as_searched)
+    known = {x.tobytes(): v for x, v in zip(as_searched, earlier, strict=True) if v is not None}
+    problem = SimulatedProblem(policy, check, priorities, first_row, known)
+    initial = start_population(start, settings.population, spread, settings.seed, policy)
+    result = search(problem, settings, initial)
+    X = policy.expand(result.X)[: len(result.X) if result.feasible else 0]
+    measured = {**problem.known, **problem.verdicts}
+    verdicts = [measured[x.tobytes()] for x in X]
+    simulated = len(problem.verdicts)
+    refused = sum(not v.ok for v in problem.verdicts.values())
+    return Polished(X, verdicts, result.history, simulated, refused, time.perf_counter() - started)

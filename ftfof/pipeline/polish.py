@@ -1,0 +1,251 @@
+"""The `polish` run: NSGA-II on the simulator from the trajectories refine's check passed, RHS on
+what the simulator measured, written as an optimize directory (refine's front, the polished
+trajectories after it) that `evaluate` reads; tracked in MLflow linked to the refine run.
+
+Each batch the check judges is appended to a journal: the search is deterministic, so a killed
+run re-run replays its generations from the journal instead of simulating them again.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ftfof.config import Params
+from ftfof.evaluate.run import Inputs, decision
+from ftfof.optimize.polish import POLISH, Polished, polish
+from ftfof.optimize.rhs import rhs_trace
+from ftfof.optimize.search import SearchSettings
+from ftfof.optimize.select import Outcome, SimulatorCheck, Verdict, fine_policy, resolution
+from ftfof.pipeline import tracking
+from ftfof.pipeline.console import console
+from ftfof.pipeline.digests import bytes_sha256, models_digest, optimum_digest
+from ftfof.pipeline.evaluate import check_models, read_inputs
+from ftfof.pipeline.io import atomic_dir, write_json
+from ftfof.pipeline.jobs import close_resumable, open_resumable
+from ftfof.robot import RobotContext, robot_context
+from ftfof.seeds import seed_for
+from ftfof.trajectory.bezier import DECISION_NAMES
+
+JOURNAL = "journal.jsonl"
+OPTIMUM = "optimize"  # under the run's directory: what evaluate reads
+# the check's numbers for polished trajectories (each seeds its perturbed copies): apart from any
+# front's rows, so no polished trajectory draws the copies of a front row
+FIRST_ROW = 1_000_000
+
+
+@dataclass(frozen=True)
+class Paths:
+    optimize: Path  # refine's optimum and front
+    models: Path  # the surrogates they were found on (the polished rows' predictions)
+    out: Path  # the journal, and optimize/ when done
+    report: Path  # reports/polish.json
+
+
+def run(params: Params, paths: Paths, workers: int | None = None) -> dict[str, Any]:
+    """Polish refine's verified candidates in simulation; write ``out/optimize`` and the report.
+
+    With ``polish.generations`` 0, or an optimum no simulator check passed (``verify_candidates``
+    0), refine's optimum is passed on as it is."""
+    started = time.perf_counter()
+    if workers is not None:
+        params = params.model_copy(
+            update={"acquire": params.acquire.model_copy(update={"workers": workers})}
+        )
+    ctx = robot_context(params)
+    inputs = read_inputs(paths.optimize, ctx.name)
+    check_models(inputs, paths.optimize, paths.models)
+    identity = {
+        "params": params.model_dump(
+            exclude={"acquire": {"workers", "scheduler", "batch"}, "evaluate": True, "logs": True}
+        ),
+        "optimum": inputs.digest,
+        "models": models_digest(paths.models),
+    }
+    key = open_resumable(paths.out, identity)
+    passed = [Verdict(**v) for v in inputs.optimum["simulator_check"] if v["ok"]]
+    if params.polish.generations == 0:
+        report: dict[str, Any] = {"polished": False, "reason": "polish.generations is 0"}
+    elif not passed:
+        report = {"polished": False, "reason": "refine's optimum was not simulator-checked"}
+    else:
+        report = _polish(params, ctx, inputs, passed, paths)
+    if not report["polished"]:
+        console.print(f"[yellow]polish: {report['reason']}; refine's optimum is passed on as it is")
+        with atomic_dir(paths.out / OPTIMUM) as tmp:
+            for name in ("front.parquet", "optimum.json"):
+                shutil.copy(paths.optimize / name, tmp / name)
+    report["seconds"] = round(time.perf_counter() - started, 2)
+    write_json(paths.report, report)
+    _track(params, inputs, report, paths)
+    close_resumable(paths.out, key)
+    return report
+
+
+def _polish(
+    params: Params, ctx: RobotContext, inputs: Inputs, passed: list[Verdict], paths: Paths
+) -> dict[str, Any]:
+    """The search in simulation from the ``passed`` candidates (their verdicts taken as
+    measured), RHS on the measured result written to ``out/optimize``; the report."""
+    from ftfof.pipeline.simcheck import simulator_check
+
+    cfg, opt = params.polish, params.optimize
+    settings = SearchSettings(
+        population=cfg.population,
+        generations=cfg.generations,
+        seed=seed_for(params.search_seed, "polish"),
+        crossover_eta=opt.crossover_eta,
+        crossover_prob=opt.crossover_prob,
+        mutation_eta=opt.mutation_eta,
+        log_every=1,
+    )
+    start = np.array([decision(inputs, v.row) for v in passed])
+    console.print(
+        f"polish {ctx.name}: NSGA-II on the simulator, {cfg.population} trajectories x "
+        f"{cfg.generations} generations from {len(start)} verified candidates, on "
+        f"{', '.join(ctx.robot.objectives[: cfg.priorities])}"
+    )
+    check = journaled(simulator_check(params, ctx), paths.out / JOURNAL)
+    fine = fine_policy(params, ctx)
+    result = polish(fine, check, start, settings, cfg.priorities, cfg.spread, FIRST_ROW, passed)
+    if not len(result.X):
+        why = f"none of the {result.simulated} trajectories simulated passed the check"
+        return {"polished": False, "reason": why, "simulated": result.simulated}
+    outcome = _outcome(params, ctx, inputs, result, paths.models)
+    _write(paths.out / OPTIMUM, outcome, ctx, inputs, params)
+    return _report(params, ctx, inputs, result, outcome)
+
+
+def journaled(check: SimulatorCheck, path: Path) -> SimulatorCheck:
+    """``check``, each batch it judges appended to ``path``; a batch asked again (a re-run
+    replaying the same generations) is read back instead of simulated. A line cut by a kill is
+    dropped."""
+    done: dict[str, list[Verdict]] = {}
+    if path.exists():
+        text = path.read_bytes()
+        whole = text[: text.rfind(b"\n") + 1]
+        if len(whole) != len(text):
+            path.write_bytes(whole)
+        for line in whole.decode().splitlines():
+            entry = json.loads(line)
+            done[entry["batch"]] = [Verdict(**v) for v in entry["verdicts"]]
+
+    def judged(rows: Sequence[int], X: np.ndarray) -> list[Verdict]:
+        rows_bytes = np.asarray(rows, dtype=np.int64).tobytes()
+        batch = bytes_sha256(rows_bytes + np.ascontiguousarray(X, dtype=float).tobytes(), 32)
+        if batch in done:
+            return done[batch]
+        verdicts = check(rows, X)
+        with path.open("a") as journal:
+            journal.write(json.dumps({"batch": batch, "verdicts": [v.__dict__ for v in verdicts]}))
+            journal.write("\n")
+            journal.flush()
+            os.fsync(journal.fileno())
+        return verdicts
+
+    return judged
+
+
+def _outcome(
+    params: Params, ctx: RobotContext, inputs: Inputs, result: Polished, models: Path
+) -> Outcome:
+    """Refine's front and nominees, the polished rows after them, RHS among the polished rows on
+    their simulated objectives; every row predicted by the surrogates, for the record."""
+    from ftfof.pipeline.optimize import build_problem
+    from ftfof.surrogate.store import load_surrogate
+
+    opt = params.optimize
+    size = len(inputs.front)
+    front = inputs.front.loc[np.arange(size), list(DECISION_NAMES)].to_numpy(dtype=float)
+    problem = build_problem(params, ctx, load_surrogate(models))
+    evaluation = problem.evaluate_population(ctx.policy.contract(np.vstack([front, result.X])))
+    recheck = fine_policy(params, ctx).check(evaluation.X)
+    rows = np.arange(size, size + len(result.X))
+    polished = [replace(v, row=int(r)) for v, r in zip(result.verdicts, rows, strict=True)]
+    simulated = np.array([v.simulated for v in polished])
+    priority = list(range(simulated.shape[1]))
+    rhs = rhs_trace(simulated, priority, opt.rhs_alpha, opt.rhs_beta, resolution(polished))
+    earlier = [Verdict(**v) for v in inputs.optimum["simulator_check"]]
+    origin = [*inputs.front.origin.tolist(), *[POLISH] * len(rows)]
+    index = int(rows[rhs.index])
+    passing = np.flatnonzero(recheck.feasible)
+    return Outcome(evaluation, recheck, passing, index, rhs, rows, {}, earlier + polished, origin)
+
+
+def _write(out: Path, outcome: Outcome, ctx: RobotContext, inputs: Inputs, params: Params):
+    from ftfof.pipeline.optimize import write_front
+
+    write_front(out, outcome, ctx, inputs.optimum["models_digest"], params.optimize)
+
+
+def _report(
+    params: Params, ctx: RobotContext, inputs: Inputs, result: Polished, outcome: Outcome
+) -> dict[str, Any]:
+    """What the polish did and what it found, against refine's optimum as its check measured it."""
+    names = list(ctx.robot.objectives)
+    chosen = next(v for v in outcome.verdicts if v.row == outcome.index)
+    before = next(
+        v
+        for v in inputs.optimum["simulator_check"]
+        if v["ok"] and v["row"] == inputs.optimum["front_row"]
+    )
+
+    def named(values: Sequence[float]) -> dict[str, float]:
+        return {n: round(float(v), 4) for n, v in zip(names, values, strict=True)}
+
+    return {
+        "polished": True,
+        "generations": params.polish.generations,
+        "population": params.polish.population,
+        "objectives": names[: params.polish.priorities],
+        "simulated": result.simulated,
+        "refused": result.refused,
+        "runs_each": chosen.runs,
+        "search_seconds": round(result.seconds, 2),
+        "start": {"row": inputs.optimum["front_row"], "simulated": named(before["simulated"])},
+        "optimum": {
+            "row": outcome.index,
+            "simulated": named(chosen.simulated),
+            "spread": named(chosen.spread) if chosen.spread else None,
+            "predicted": named(outcome.evaluation.F[outcome.index]),
+        },
+        "change_vs_start": {
+            n: round(100.0 * (a / b - 1.0), 2) if b else None
+            for n, a, b in zip(names, chosen.simulated, before["simulated"], strict=True)
+        },
+        "front": [named(v.simulated) for v in outcome.verdicts if v.row >= len(inputs.front)],
+        "history": [r.as_dict() for r in result.history],
+    }
+
+
+def _track(params: Params, inputs: Inputs, report: dict[str, Any], paths: Paths) -> None:
+    """A `polish` run linked to the refine run that wrote its start, tagged with the optimum's
+    digest so that evaluate links to it."""
+    experiment = tracking.experiment_name(params.robot)
+    mlflow = tracking.setup(experiment)
+    link, _ = tracking.link_tags(
+        mlflow,
+        experiment,
+        "refine",
+        tracking.OPTIMUM_DIGEST_TAG,
+        inputs.digest,
+        tracking.OPTIMIZE_RUN_TAG,
+        "Start",
+    )
+    link[tracking.OPTIMUM_DIGEST_TAG] = optimum_digest(paths.out / OPTIMUM)
+    with mlflow.start_run(run_name="polish", tags={**tracking.tags("polish"), **link}):
+        mlflow.log_params(tracking.flatten({"polish": params.polish.model_dump()}))
+        metrics = {"seconds": report["seconds"]}
+        if report["polished"]:
+            metrics["simulated"] = report["simulated"]
+            metrics.update({f"optimum_{k}": v for k, v in report["optimum"]["simulated"].items()})
+        mlflow.log_metrics(metrics)
+        mlflow.log_dict(report, "polish.json")

@@ -1,0 +1,92 @@
+"""Stage `polish` on the real platform (tiny sizes): the polished rows follow refine's front, the
+optimum is one the simulator passed, a killed run resumes from its journal without simulating
+a journalled batch again, and ``generations: 0`` passes refine's optimum on untouched."""
+
+import copy
+import json
+import shutil
+
+import pyarrow.parquet as pq
+import pytest
+from typer.testing import CliRunner
+
+from ftfof.pipeline import simcheck
+from ftfof.pipeline.polish import JOURNAL
+from stages.cli import app
+from tests.conftest import polish_args, tree_bytes, write_params
+
+pytestmark = pytest.mark.integration
+
+runner = CliRunner()
+
+
+@pytest.fixture(scope="module")
+def polished(refined_tiny):
+    work, params, env, _, _ = refined_tiny
+    result = runner.invoke(app, polish_args(params, work / "refine", work / "first"), env=env)
+    assert result.exit_code == 0, result.output
+    return work / "first"
+
+
+def test_polished_rows_follow_refines_front_and_the_optimum_passed_the_check(
+    refined_tiny, polished
+):
+    work, *_ = refined_tiny
+    before = pq.read_table(work / "refine" / "optimize" / "front.parquet").to_pandas()
+    after = pq.read_table(polished / "optimize" / "front.parquet").to_pandas()
+    report = json.loads(polished.with_suffix(".json").read_text())
+    optimum = json.loads((polished / "optimize" / "optimum.json").read_text())
+    assert report["polished"], report
+    head = after.iloc[: len(before)]
+    assert head.row.tolist() == before.row.tolist()
+    assert head.origin.tolist() == before.origin.tolist()
+    assert (after.origin.iloc[len(before) :] == "polish").all()
+    assert len(after) - len(before) == len(report["front"]) >= 1
+    assert optimum["origin"] == "polish" and optimum["front_row"] >= len(before)
+    chosen = next(v for v in optimum["simulator_check"] if v["row"] == optimum["front_row"])
+    assert chosen["ok"] and chosen["runs"] == 3  # the nominal run and optimize.verify_copies
+    assert report["optimum"]["simulated"]["fs1"] == pytest.approx(chosen["simulated"][0], abs=1e-4)
+    assert after.loc[after.row == optimum["front_row"], "recheck_feasible"].item()
+    assert report["simulated"] > 0
+    assert 0 <= report["refused"] <= report["simulated"]
+    assert len(report["history"]) == 2
+
+
+def test_a_killed_run_resumes_from_its_journal(refined_tiny, polished, monkeypatch):
+    work, params, env, _, _ = refined_tiny
+    resumed = work / "resumed"
+    shutil.copytree(polished, resumed)
+    manifest = json.loads((resumed / "manifest.json").read_text())
+    (resumed / "manifest.json").write_text(json.dumps({**manifest, "complete": False}))
+    shutil.rmtree(resumed / "optimize")
+    lines = (resumed / JOURNAL).read_bytes().splitlines(keepends=True)
+    assert len(lines) >= 2
+    (resumed / JOURNAL).write_bytes(lines[0] + lines[1][: len(lines[1]) // 2])  # cut mid-line
+    asked = []
+    check = simcheck.simulator_check
+
+    def counting(*args):
+        inner = check(*args)
+
+        def counted(rows, X):
+            asked.append(len(rows))
+            return inner(rows, X)
+
+        return counted
+
+    monkeypatch.setattr(simcheck, "simulator_check", counting)
+    result = runner.invoke(app, polish_args(params, work / "refine", resumed), env=env)
+    assert result.exit_code == 0, result.output
+    assert len(asked) == len(lines) - 1  # the first batch was read back, the cut one re-run
+    assert tree_bytes(resumed) == tree_bytes(polished)
+
+
+def test_no_generations_pass_refines_optimum_on(refined_tiny):
+    work, _, env, data, _ = refined_tiny
+    data = copy.deepcopy(data)
+    data["polish"] = {**data["polish"], "generations": 0}
+    params = write_params(work / "none.yaml", data)
+    result = runner.invoke(app, polish_args(params, work / "refine", work / "none"), env=env)
+    assert result.exit_code == 0, result.output
+    assert tree_bytes(work / "none" / "optimize") == tree_bytes(work / "refine" / "optimize")
+    assert json.loads((work / "none.json").read_text())["polished"] is False

@@ -438,6 +438,9 @@ class Polish(Strict):
     # choice among its result is RHS on all of them, as measured
     priorities: PositiveInt = 2
     spread: PositiveFloat = 1e-3  # m: the error of the copies that fill a short first population
+    # fresh perturbed copies each polished trajectory is simulated with again before RHS chooses
+    # (on these runs): the search chose among fixed draws, which flatters its best
+    confirm_copies: PositiveInt = 4
 
 
 class Evaluate(Strict):

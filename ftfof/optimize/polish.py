@@ -57,16 +57,17 @@ class SimulatedProblem(Problem):
         refused = np.ones(len(X))
         F = np.full((len(X), self.priorities), np.nan)
         feasible = np.flatnonzero(rules.feasible)
-        run = [i for i in feasible if X[i].tobytes() not in self.known]
+        seen = {**self.known, **self.verdicts}  # a trajectory asked again keeps its first verdict
+        run = [i for i in feasible if X[i].tobytes() not in seen]
         rows = list(range(self.next_row, self.next_row + len(run)))
         self.next_row += len(run)
-        judged = dict(zip(run, self.check(rows, X[run]) if run else [], strict=True))
+        for i, verdict in zip(run, self.check(rows, X[run]) if run else [], strict=True):
+            seen[X[i].tobytes()] = self.verdicts[X[i].tobytes()] = verdict
         for i in feasible:
-            verdict = judged[i] if i in judged else self.known[X[i].tobytes()]
-            if i in judged:
-                self.verdicts[X[i].tobytes()] = verdict
-            if verdict.ok:
-                F[i] = verdict.simulated[: self.priorities]
+            verdict = seen[X[i].tobytes()]
+            values = np.asarray(verdict.simulated[: self.priorities], dtype=float)
+            if verdict.ok and values.size == self.priorities and np.isfinite(values).all():
+                F[i] = values
                 refused[i] = 0.0
         # pymoo ranks the unmeasured rows by their violation first; these values only keep its
         # statistics (crowding, the convergence record's scale) finite
@@ -88,9 +89,12 @@ class Polished:
 
 
 def start_population(start: Array, size: int, scale: float, seed: int, policy: ConstraintPolicy):
-    """``size`` free-variable rows: the distinct ``start`` rows (full decision rows), then copies
-    of them in turn with every free value off by a normal error of ``scale``, kept in the box."""
-    free = np.unique(policy.contract(np.atleast_2d(start)), axis=0)
+    """``size`` free-variable rows: the distinct ``start`` rows (full decision rows) in their
+    order, then copies of them in turn with every free value off by a normal error of ``scale``,
+    kept in the box. Too many start rows keep the first ``size``."""
+    rows = policy.contract(np.atleast_2d(start))
+    first = np.unique(rows, axis=0, return_index=True)[1]
+    free = rows[np.sort(first)]
     if len(free) >= size:
         return free[:size]
     rng = np.random.default_rng(seed)

@@ -40,6 +40,7 @@ OPTIMUM = "optimize"  # under the run's directory: what evaluate reads
 # the check's numbers for polished trajectories (each seeds its perturbed copies): apart from any
 # front's rows, so no polished trajectory draws the copies of a front row
 FIRST_ROW = 1_000_000
+CONFIRM_ROW = 2_000_000  # the same for the fresh copies of the confirmation
 
 
 @dataclass(frozen=True)
@@ -107,6 +108,7 @@ def _polish(
         mutation_eta=opt.mutation_eta,
         log_every=1,
     )
+    passed = sorted(passed, key=lambda v: v.row != inputs.optimum["front_row"])  # refine's first
     start = np.array([decision(inputs, v.row) for v in passed])
     console.print(
         f"polish {ctx.name}: NSGA-II on the simulator, {cfg.population} trajectories x "
@@ -119,9 +121,28 @@ def _polish(
     if not len(result.X):
         why = f"none of the {result.simulated} trajectories simulated passed the check"
         return {"polished": False, "reason": why, "simulated": result.simulated}
+    searched = dict(zip((x.tobytes() for x in result.X), result.verdicts, strict=True))
+    result = _confirmed(params, ctx, result, paths.out / JOURNAL)
+    if not len(result.X):
+        why = "no polished trajectory passed again with fresh copies"
+        return {"polished": False, "reason": why, "simulated": result.simulated}
     outcome = _outcome(params, ctx, inputs, result, paths.models)
     _write(paths.out / OPTIMUM, outcome, ctx, inputs, params)
-    return _report(params, ctx, inputs, result, outcome)
+    return _report(params, ctx, inputs, result, outcome, searched)
+
+
+def _confirmed(params: Params, ctx: RobotContext, result: Polished, journal: Path) -> Polished:
+    """The polished front simulated again, each trajectory with ``polish.confirm_copies`` fresh
+    copies (perturbations the search never saw), keeping those that pass, with these runs as
+    their verdicts: RHS chooses on them, free of the search's choice among fixed draws."""
+    from ftfof.pipeline.simcheck import simulator_check
+
+    fresh = params.optimize.model_copy(update={"verify_copies": params.polish.confirm_copies})
+    check = journaled(simulator_check(params.model_copy(update={"optimize": fresh}), ctx), journal)
+    rows = range(CONFIRM_ROW, CONFIRM_ROW + len(result.X))
+    verdicts = check(list(rows), result.X)
+    keep = [k for k, v in enumerate(verdicts) if v.ok]
+    return replace(result, X=result.X[keep], verdicts=[verdicts[k] for k in keep])
 
 
 def journaled(check: SimulatorCheck, path: Path) -> SimulatorCheck:
@@ -187,11 +208,18 @@ def _write(out: Path, outcome: Outcome, ctx: RobotContext, inputs: Inputs, param
 
 
 def _report(
-    params: Params, ctx: RobotContext, inputs: Inputs, result: Polished, outcome: Outcome
+    params: Params,
+    ctx: RobotContext,
+    inputs: Inputs,
+    result: Polished,
+    outcome: Outcome,
+    searched: dict[bytes, Verdict],
 ) -> dict[str, Any]:
-    """What the polish did and what it found, against refine's optimum as its check measured it."""
+    """What the polish did and what it found, against refine's optimum as its check measured it;
+    ``searched`` holds the search's own verdicts (fixed draws) by decision bytes."""
     names = list(ctx.robot.objectives)
     chosen = next(v for v in outcome.verdicts if v.row == outcome.index)
+    in_search = searched[result.X[outcome.index - len(inputs.front)].tobytes()]
     before = next(
         v
         for v in inputs.optimum["simulator_check"]
@@ -208,13 +236,17 @@ def _report(
         "objectives": names[: params.polish.priorities],
         "simulated": result.simulated,
         "refused": result.refused,
-        "runs_each": chosen.runs,
+        "confirm_copies": params.polish.confirm_copies,
         "search_seconds": round(result.seconds, 2),
         "start": {"row": inputs.optimum["front_row"], "simulated": named(before["simulated"])},
         "optimum": {
             "row": outcome.index,
             "simulated": named(chosen.simulated),
             "spread": named(chosen.spread) if chosen.spread else None,
+            "runs": chosen.runs,
+            # the same trajectory as the search measured it (its fixed draws): the gap is what
+            # choosing among fixed draws flattered it by
+            "searched": named(in_search.simulated),
             "predicted": named(outcome.evaluation.F[outcome.index]),
         },
         "change_vs_start": {

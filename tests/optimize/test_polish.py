@@ -91,7 +91,8 @@ def test_only_rows_that_keep_every_rule_are_simulated(m3f, platform, polished):
 
 
 def test_the_polish_is_deterministic(m3f, start, platform, polished):
-    again = polish(m3f.policy, platform, start, SETTINGS, priorities=2, spread=1e-3, first_row=500)
+    fresh = AnalyticPlatform(m3f.policy, platform.target, platform.ceiling)
+    again = polish(m3f.policy, fresh, start, SETTINGS, priorities=2, spread=1e-3, first_row=500)
     np.testing.assert_array_equal(again.X, polished.X)
 
 
@@ -99,11 +100,13 @@ def test_a_short_start_is_filled_with_copies_in_the_box(m3f, start):
     policy = m3f.policy
     rows = start_population(start[:3], 10, 1e-3, 1, policy)
     assert rows.shape == (10, policy.n_free)
-    np.testing.assert_array_equal(rows[:3], np.unique(policy.contract(start[:3]), axis=0))
+    np.testing.assert_array_equal(rows[:3], policy.contract(start[:3]))  # in their order
     assert ((rows >= policy.lower) & (rows <= policy.upper)).all()
-    offsets = rows[3:] - np.unique(policy.contract(start[:3]), axis=0)[np.arange(7) % 3]
+    offsets = rows[3:] - policy.contract(start[:3])[np.arange(7) % 3]
     assert 0 < np.abs(offsets).max() < 6e-3
-    assert start_population(start, 4, 1e-3, 1, policy).shape == (4, policy.n_free)
+    np.testing.assert_array_equal(
+        start_population(start, 4, 1e-3, 1, policy), policy.contract(start[:4])
+    )
 
 
 def test_start_verdicts_are_taken_as_measured_not_simulated_again(m3f, start, platform):
@@ -116,3 +119,18 @@ def test_start_verdicts_are_taken_as_measured_not_simulated_again(m3f, start, pl
     starts = m3f.policy.expand(m3f.policy.contract(start))
     assert not asked & {x.tobytes() for x in starts}
     assert len(fresh.rows) > 0  # the offspring were simulated
+
+
+def test_a_trajectory_asked_again_keeps_its_first_verdict(m3f, start, platform, polished):
+    """pymoo removes duplicates within a generation only: a later copy of a judged trajectory is
+    not another draw of the platform."""
+    from ftfof.optimize.polish import SimulatedProblem
+
+    counting = AnalyticPlatform(m3f.policy, platform.target, platform.ceiling)
+    problem = SimulatedProblem(m3f.policy, counting, 2, 0)
+    U = m3f.policy.contract(start[:3])
+    first, second = {}, {}
+    problem._evaluate(U, first)
+    problem._evaluate(U, second)
+    assert len(counting.rows) == 3
+    np.testing.assert_array_equal(first["F"], second["F"])

@@ -44,7 +44,9 @@ def test_polished_rows_follow_refines_front_and_the_optimum_passed_the_check(
     assert len(after) - len(before) == len(report["front"]) >= 1
     assert optimum["origin"] == "polish" and optimum["front_row"] >= len(before)
     chosen = next(v for v in optimum["simulator_check"] if v["row"] == optimum["front_row"])
-    assert chosen["ok"] and chosen["runs"] == 3  # the nominal run and optimize.verify_copies
+    # chosen on the confirmation: the nominal run and polish.confirm_copies fresh copies
+    assert chosen["ok"] and chosen["runs"] == 5 == report["optimum"]["runs"]
+    assert set(report["optimum"]["searched"]) == set(report["optimum"]["simulated"])
     assert report["optimum"]["simulated"]["fs1"] == pytest.approx(chosen["simulated"][0], abs=1e-4)
     assert after.loc[after.row == optimum["front_row"], "recheck_feasible"].item()
     assert report["simulated"] > 0

@@ -80,7 +80,7 @@ class SimulatedProblem(Problem):
 class Polished:
     """The simulator's non-dominated trajectories after the polish, each with its verdict."""
 
-    X: Array  # (k, 12) full decision rows, every one passed by the check
+    X: Array  # (k, 12) full decision rows the check passed: whole non-dominated layers
     verdicts: list[Verdict]  # in the order of X (rows as the check or the start numbered them)
     history: tuple[ConvergenceRecord, ...]  # hypervolume of the measured front per generation
     simulated: int  # trajectories the check judged in the search (each with its copies)
@@ -101,6 +101,29 @@ def start_population(start: Array, size: int, scale: float, seed: int, policy: C
     parents = free[np.arange(size - len(free)) % len(free)]
     copies = np.clip(parents + rng.normal(0.0, scale, parents.shape), policy.lower, policy.upper)
     return np.vstack([free, copies])
+
+
+def best_layers(measured: dict[bytes, Verdict], priorities: int, size: int) -> list[bytes]:
+    """The passed trajectories of ``measured`` (by decision bytes) in the non-dominated layers of
+    their first ``priorities`` objectives, whole layers until there are ``size`` or all are in.
+    More than the final front: a later check with fresh copies may refuse some of it, and the
+    choice should not then fall to whatever is left of one layer."""
+    from pymoo.util.nds.non_dominated_sorting import NonDominatedSorting
+
+    passed = [
+        k
+        for k, v in measured.items()
+        if v.ok and np.isfinite(np.asarray(v.simulated[:priorities], dtype=float)).all()
+    ]
+    if not passed:
+        return []
+    F = np.array([measured[k].simulated[:priorities] for k in passed], dtype=float)
+    keep: list[bytes] = []
+    for layer in NonDominatedSorting().do(F):
+        if len(keep) >= size:
+            break
+        keep += [passed[i] for i in sorted(layer)]
+    return keep
 
 
 def polish(
@@ -124,9 +147,10 @@ def polish(
     problem = SimulatedProblem(policy, check, priorities, first_row, known)
     initial = start_population(start, settings.population, spread, settings.seed, policy)
     result = search(problem, settings, initial)
-    X = policy.expand(result.X)[: len(result.X) if result.feasible else 0]
     measured = {**problem.known, **problem.verdicts}
-    verdicts = [measured[x.tobytes()] for x in X]
+    keys = best_layers(measured, priorities, settings.population)
+    X = np.array([np.frombuffer(k) for k in keys]).reshape(len(keys), -1)
+    verdicts = [measured[k] for k in keys]
     simulated = len(problem.verdicts)
     refused = sum(not v.ok for v in problem.verdicts.values())
     return Polished(X, verdicts, result.history, simulated, refused, time.perf_counter() - started)

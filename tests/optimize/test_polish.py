@@ -134,3 +134,24 @@ def test_a_trajectory_asked_again_keeps_its_first_verdict(m3f, start, platform, 
     problem._evaluate(U, second)
     assert len(counting.rows) == 3
     np.testing.assert_array_equal(first["F"], second["F"])
+
+
+def test_best_layers_keep_whole_non_dominated_layers_of_passed_trajectories():
+    from ftfof.optimize.polish import best_layers
+
+    def verdict(ok, fs1, fsj):
+        return Verdict(0, ok, "" if ok else "refused", {}, [fs1, fsj, 9.0] if ok else [])
+
+    measured = {
+        b"a": verdict(True, 1.0, 3.0),  # layer 1
+        b"b": verdict(True, 3.0, 1.0),  # layer 1
+        b"c": verdict(True, 2.0, 3.5),  # layer 2
+        b"d": verdict(True, 3.5, 2.0),  # layer 2
+        b"e": verdict(True, 4.0, 4.0),  # layer 3
+        b"f": verdict(False, 0.0, 0.0),  # refused: never kept
+        b"g": verdict(True, float("nan"), 0.5),  # not measured: never kept
+    }
+    assert best_layers(measured, 2, 2) == [b"a", b"b"]
+    assert best_layers(measured, 2, 3) == [b"a", b"b", b"c", b"d"]  # the second layer whole
+    assert best_layers(measured, 2, 10) == [b"a", b"b", b"c", b"d", b"e"]
+    assert best_layers({b"f": measured[b"f"]}, 2, 4) == []

@@ -58,7 +58,8 @@ def test_every_stage_wrote_its_outputs(repo):
     for r in rounds:
         assert (refined.source == f"refine:{r['round']}").sum() == r["added"]
     polish = json.loads((repo / "reports/polish.json").read_text())
-    assert polish["polished"] and polish["simulated"] > 0
+    # the tiny search may find no rule-keeping offspring to simulate; the confirmation always runs
+    assert polish["polished"] and polish["front"]
     evaluated = json.loads((repo / "data/polish/optimize/optimum.json").read_text())
     metrics = json.loads((repo / "reports/metrics.json").read_text())
     assert evaluated["front_row"] == metrics["optimum_front_row"]

@@ -395,7 +395,7 @@ class Optimize(Strict):
     rhs_beta: Annotated[float, Field(gt=0, lt=1)] = 0.9  # Algorithm 1: shrink factor
     verify_candidates: NonNegativeInt = 16  # RHS candidates simulated, then chosen on; 0 = trust
     # each candidate is also simulated this many times with every free control value off by a
-    # normal error of ``verify_repeatability`` (m; kept in the box): it must pass every time,
+    # normal error of ``verify_repeatability`` (m; not kept in the box): it must pass every time,
     # and RHS chooses on the mean, its differences within the standard error ties
     verify_copies: NonNegativeInt = 2
     verify_repeatability: PositiveFloat = 2e-4

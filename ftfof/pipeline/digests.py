@@ -34,6 +34,15 @@ def files_sha256(paths: Iterable[Path], length: int = 16) -> str:
     return h.hexdigest()[:length]
 
 
+def tree_sha256(root: Path, pattern: str, length: int = 16) -> str:
+    """SHA-256 over (relative path, bytes) of the files under ``root`` matching ``pattern``, in
+    path order: the same tree gives the same digest wherever it is checked out."""
+    h = hashlib.sha256()
+    for path in sorted(root.rglob(pattern), key=lambda p: p.relative_to(root).as_posix()):
+        h.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
+    return h.hexdigest()[:length]
+
+
 def models_digest(directory: Path) -> str:
     """Names a set of trained surrogates: every file in the model directory.
 

@@ -28,7 +28,7 @@ from ftfof.data.schema import TRAJECTORIES
 from ftfof.errors import DataError, SimulationError
 from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench
 from ftfof.pipeline.console import progress
-from ftfof.pipeline.digests import bytes_sha256, file_sha256, json_sha256
+from ftfof.pipeline.digests import bytes_sha256, file_sha256, json_sha256, tree_sha256
 from ftfof.pipeline.io import atomic_path, read_table, write_json, write_parquet
 from ftfof.robot import RobotContext, robot_context
 from ftfof.sim import pool
@@ -124,12 +124,18 @@ class Acquisition:
         A finished run leaves no pending parts, so a re-run (``dvc repro --force``) recomputes.
         """
         manifest = self.out / MANIFEST
-        current = json.loads(manifest.read_text()).get("fingerprint") if manifest.exists() else None
-        if current != self.key or not self._parts():
+        saved = json.loads(manifest.read_text()) if manifest.exists() else {}
+        code = source()
+        if (saved.get("fingerprint"), saved.get("source")) != (self.key, code) or not self._parts():
             if self.out.exists():
                 shutil.rmtree(self.out)
             self.pending.mkdir(parents=True)
-            write_json(manifest, {"fingerprint": self.key, "versions": versions()})
+            write_json(manifest, self._manifest() | {"source": code})
+
+    def _manifest(self) -> dict[str, object]:
+        """The finished job's manifest: its fingerprint and versions, not the source digest that
+        guards its pending parts (so equal results leave equal outputs after a code change)."""
+        return {"fingerprint": self.key, "versions": versions()}
 
     def done_keys(self) -> set[str]:
         keys: set[str] = set()
@@ -216,6 +222,7 @@ class Acquisition:
                 table.select(["key", "status", "wall_time"]).to_pandas().to_csv(tmp, index=False)
         write_parquet(self.out / FINAL, table.drop_columns(["wall_time"]).cast(ACQUISITION))
         shutil.rmtree(self.pending)
+        write_json(self.out / MANIFEST, self._manifest())
         return summary
 
 
@@ -306,16 +313,25 @@ def versions() -> dict[str, str]:
     return {"ftfof": ftfof.__version__, "exudyn": exudyn.__version__}
 
 
+def source() -> str:
+    """A digest of ftfof's Python source: an interrupted job resumes only under the code that
+    began it (the version string does not change with every edit)."""
+    return tree_sha256(Path(ftfof.__file__).parent, "*.py")
+
+
 def open_resumable(out: Path, identity: dict[str, object]) -> str:
     """The fingerprint of ``identity`` and the code versions. ``out`` is kept only to resume an
-    interrupted run of the same fingerprint; otherwise it is emptied and marked incomplete."""
+    interrupted run of the same fingerprint and source; otherwise it is emptied and marked
+    incomplete."""
     key = json_sha256({**identity, "versions": versions()})
     manifest = out / MANIFEST
     saved = json.loads(manifest.read_text()) if manifest.exists() else {}
-    if saved.get("fingerprint") != key or saved.get("complete", True):
+    code = source()
+    same = (saved.get("fingerprint"), saved.get("source")) == (key, code)
+    if not same or saved.get("complete", True):
         if out.exists():
             shutil.rmtree(out)
-        write_json(manifest, {"fingerprint": key, "complete": False})
+        write_json(manifest, {"fingerprint": key, "complete": False, "source": code})
     return key
 
 

@@ -17,6 +17,7 @@ from ftfof.optimize.select import SimulatorCheck, Verdict
 from ftfof.pipeline.bench import bench
 from ftfof.robot import RobotContext
 from ftfof.seeds import seed_for
+from ftfof.trajectory.policy import ConstraintPolicy
 
 MEASURED = (
     "min_bend_radius",
@@ -28,6 +29,18 @@ MEASURED = (
     "max_clearance",
     "switch_time",
 )
+
+
+def perturbed_runs(
+    policy: ConstraintPolicy, X: np.ndarray, error: float, copies: int, rng: np.random.Generator
+) -> list[np.ndarray]:
+    """A row's decision values, then ``copies`` copies with every free control value off by a
+    normal error of ``error`` (m; fixed and tied values stay so). The copies are not kept in
+    the box: the box is a rule of the commanded path, the error is the robot's. Clipped, a row
+    on a bound (a peel straight up, P3x = P0x) was tested on one side only, half its draws
+    there were no error at all, and the search could gain from sitting on it."""
+    free = policy.contract(X)[0]
+    return [X, *policy.expand(free + rng.normal(0.0, error, (copies, free.size)))]
 
 
 def simulator_check(params: Params, ctx: RobotContext) -> SimulatorCheck:
@@ -57,13 +70,8 @@ def simulator_check(params: Params, ctx: RobotContext) -> SimulatorCheck:
     policy = ctx.policy
 
     def runs_of(row: int, X: np.ndarray) -> list[np.ndarray]:
-        """The row's decision values, then its copies: every free control value off by a normal
-        error of ``verify_repeatability``, kept in the box (fixed and tied values stay so)."""
         rng = np.random.default_rng(seed_for(params.search_seed, "verify", row))
-        free = policy.contract(X)[0]
-        errors = rng.normal(0.0, cfg.verify_repeatability, (cfg.verify_copies, free.size))
-        copies = policy.expand(np.clip(free + errors, policy.lower, policy.upper))
-        return [X, *copies]
+        return perturbed_runs(policy, X, cfg.verify_repeatability, cfg.verify_copies, rng)
 
     def check(rows: Sequence[int], X: np.ndarray) -> list[Verdict]:
         if len(set(rows)) != len(rows):

@@ -10,7 +10,7 @@ import pyarrow.parquet as pq
 import pytest
 from typer.testing import CliRunner
 
-from ftfof.pipeline import simcheck
+from ftfof.pipeline import jobs, simcheck
 from ftfof.pipeline.polish import JOURNAL
 from stages.cli import app
 from tests.conftest import polish_args, tree_bytes, write_params
@@ -59,7 +59,8 @@ def test_a_killed_run_resumes_from_its_journal(refined_tiny, polished, monkeypat
     resumed = work / "resumed"
     shutil.copytree(polished, resumed)
     manifest = json.loads((resumed / "manifest.json").read_text())
-    (resumed / "manifest.json").write_text(json.dumps({**manifest, "complete": False}))
+    interrupted = {**manifest, "complete": False, "source": jobs.source()}
+    (resumed / "manifest.json").write_text(json.dumps(interrupted))
     shutil.rmtree(resumed / "optimize")
     lines = (resumed / JOURNAL).read_bytes().splitlines(keepends=True)
     assert len(lines) >= 2

@@ -1,12 +1,17 @@
-"""The simulator check's perturbed copies: the robot's error, not a draw kept inside the box."""
+"""The simulator check's perturbed copies: the robot's error, not a draw kept inside the box, and
+simulated only where the nominal run passed."""
 
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
-from ftfof.pipeline.simcheck import perturbed_runs
+from ftfof.config import Params
+from ftfof.pipeline.simcheck import perturbed_runs, simulator_check
 from ftfof.robot import RobotContext
+from ftfof.sim import pool
 from ftfof.trajectory.bezier import DECISION_NAMES
+from tests.conftest import PUBLISHED_M3F
 
 
 def test_copies_of_a_row_on_a_bound_go_both_ways_and_fixed_values_stay(
@@ -29,3 +34,32 @@ def test_copies_of_a_row_on_a_bound_go_both_ways_and_fixed_values_stay(
     fixed = [DECISION_NAMES.index(n) for n in ("P3x", "P4x", "P5x")]
     assert np.all(runs[:, fixed] == row[fixed])
     assert np.all(np.abs(runs[1:] - row).max(axis=1) > 0.0)
+
+
+@pytest.mark.integration
+def test_copies_are_simulated_only_for_rows_whose_nominal_run_passed(
+    params: Params, m3f: RobotContext, monkeypatch: pytest.MonkeyPatch
+):
+    simulated: list[str] = []
+    run_local = pool.run_local
+
+    def counting(specs, *args, **kwargs):
+        simulated.extend(s.key for s in specs)
+        return run_local(specs, *args, **kwargs)
+
+    monkeypatch.setattr(pool, "run_local", counting)
+    policy = m3f.policy
+    middle = policy.expand(0.5 * (policy.lower + policy.upper))[0]
+    rows = np.array([PUBLISHED_M3F, middle])
+    verdicts = simulator_check(params, m3f)([7, 8], rows)
+    # Pf shakes the body past the limit (11.1 m/s^2 > 9.81) on its nominal run
+    assert (
+        not verdicts[0].ok
+        and "body shook" in verdicts[0].reason
+        and "copy" not in verdicts[0].reason
+    )
+    nominal_passed = [v.ok or "(copy " in v.reason for v in verdicts]
+    copies = params.optimize.verify_copies
+    assert len(simulated) == len(rows) + copies * sum(nominal_passed)
+    assert sorted(simulated[: len(rows)]) == ["verify0:7", "verify0:8"]
+    assert all(v.runs == 1 + copies for v in verdicts if v.ok)

@@ -399,6 +399,9 @@ class Optimize(Strict):
     # and RHS chooses on the mean, its differences within the standard error ties
     verify_copies: NonNegativeInt = 2
     verify_repeatability: PositiveFloat = 2e-4
+    # when every candidate of a batch is refused, the next ``verify_candidates`` in RHS order are
+    # simulated, up to this many batches in all
+    verify_batches: PositiveInt = 4
 
 
 class RefineTarget(Strict):

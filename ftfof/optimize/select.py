@@ -202,24 +202,37 @@ def verified_rhs(
     Where the check simulated each candidate several times, differences within the simulator's
     own repeatability are ties (:func:`resolution`).
 
+    When the check refuses every candidate of a batch, the next ``limit`` rows in RHS order are
+    simulated, up to ``cfg.verify_batches`` batches: a retrained surrogate (another seed, another
+    machine's last bits) can put its first candidates just past a limit the simulator judges,
+    and the front holds more than ``limit`` rows to try before giving up.
+
     Returns the chosen row, its RHS trace (over the returned rows), the rows it ran over and the
-    verdicts in order. None passing is an OptimizationError naming the first refusals. ``limit``
-    0 (or no check) trusts the surrogates: RHS on ``F`` over ``rows``, nominees ignored.
+    verdicts in order. None passing in any batch is an OptimizationError naming the first
+    refusals. ``limit`` 0 (or no check) trusts the surrogates: RHS on ``F`` over ``rows``,
+    nominees ignored.
     """
     priority = list(range(F.shape[1]))
     if check is None or limit == 0:
         rhs = rhs_trace(F[rows], priority, cfg.rhs_alpha, cfg.rhs_beta)
         return int(rows[rhs.index]), rhs, rows, []
     extra = [] if nominated is None else [int(r) for r in nominated]
-    ranked = rhs_ranking(F, rows, cfg, limit) + extra
-    verdicts = check(ranked, X[ranked])
+    ranked = rhs_ranking(F, rows, cfg, limit * cfg.verify_batches)
+    verdicts: list[Verdict] = []
+    for start in range(0, len(ranked), limit):
+        batch = ranked[start : start + limit] + (extra if start == 0 else [])
+        verdicts += check(batch, X[batch])
+        if any(v.ok for v in verdicts):
+            break
     passed = [v for v in verdicts if v.ok]
     if not passed:
         refused = "; ".join(f"row {v.row}: {v.reason}" for v in verdicts[:3])
         raise OptimizationError(
             "optimize",
-            f"the simulator refused the first {len(verdicts)} RHS candidates ({refused}); "
-            "raise optimize.verify_candidates or retrain the surrogates where they fail",
+            f"the simulator refused all {len(verdicts)} RHS candidates it was given, in "
+            f"batches of {limit} ({refused}); raise "
+            "optimize.verify_candidates or optimize.verify_batches, or retrain the surrogates "
+            "where they fail",
         )
     simulated = np.array([v.simulated for v in passed])
     rhs = rhs_trace(simulated, priority, cfg.rhs_alpha, cfg.rhs_beta, resolution(passed))

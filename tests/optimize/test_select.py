@@ -94,10 +94,32 @@ def test_running_out_of_candidates_names_the_refusals():
     def refuse(rows, X_rows):
         return [Verdict(row, False, f"film bent at row {row}", {}) for row in rows]
 
-    with pytest.raises(OptimizationError, match=rf"refused the first 2 RHS .*row {first}: film"):
-        verified_rhs(F, X, np.arange(5), _cfg(), refuse, 2)
-    with pytest.raises(OptimizationError, match="refused the first 5"):
+    with pytest.raises(OptimizationError, match=rf"refused all 2 RHS .*row {first}: film"):
+        verified_rhs(F, X, np.arange(5), _cfg(verify_batches=1), refuse, 2)
+    with pytest.raises(OptimizationError, match="refused all 5 RHS candidates"):
+        verified_rhs(F, X, np.arange(5), _cfg(), refuse, 2)  # 3 batches: the whole front
+    with pytest.raises(OptimizationError, match="refused all 5"):
         verified_rhs(F, X, np.arange(5), _cfg(), refuse, 10)
+
+
+def test_a_refused_batch_sends_the_next_candidates_in_rhs_order():
+    F, X = _front()
+    rows = np.arange(4)  # the front; row 4 is a nominee from outside it
+    order = rhs_ranking(F, rows, _cfg(), 4)
+    batches = []
+
+    def check(rows, X_rows):
+        batches.append(list(rows))
+        return [
+            Verdict(r, r == order[3], "" if r == order[3] else "shook", {}, [0.1, 0.1])
+            for r in rows
+        ]
+
+    index, _, passed, verdicts = verified_rhs(F, X, rows, _cfg(), check, 2, np.array([4]))
+    # the nominee joins the first batch only; the second batch is RHS's next two; no third batch
+    assert batches == [[*order[:2], 4], order[2:4]]
+    assert index == order[3] and passed.tolist() == [order[3]]
+    assert [v.row for v in verdicts] == [*order[:2], 4, *order[2:4]]
 
 
 def test_candidates_simulated_several_times_tie_within_their_repeatability():

@@ -136,8 +136,14 @@ def trained(tmp_path_factory, raw_params):
     data = dict(raw_params)
     data["dataset"] = {**raw_params["dataset"], "seq_len": 24}
     # as in profiles/tiny.yaml: a surrogate this small predicts no landing within 10 % of a, and
-    # a retouch everywhere
-    m3f = {**raw_params["robots"]["mst_m3f"], "landing_tolerance": None, "retouch_allowed": None}
+    # a retouch everywhere; trained on 30 fake records, it cannot place the body limit either
+    # (with it, every row of the tiny front was refused on the 2026-11-25 environment)
+    m3f = {
+        **raw_params["robots"]["mst_m3f"],
+        "landing_tolerance": None,
+        "retouch_allowed": None,
+        "body_acc_limit": None,
+    }
     mst_q = {**raw_params["robots"]["mst_q"], "retouch_allowed": None}
     data["robots"] = {**raw_params["robots"], "mst_m3f": m3f, "mst_q": mst_q}
     data["train"] = {  # both losses, so the DILATE path and the comparison stay covered

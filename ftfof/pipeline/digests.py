@@ -26,21 +26,23 @@ def json_sha256(data: object, length: int = 64) -> str:
     return bytes_sha256(json.dumps(data, sort_keys=True, default=str).encode(), length)
 
 
-def files_sha256(paths: Iterable[Path], length: int = 16) -> str:
-    """SHA-256 over (name, bytes) of several files, in name order; ``length`` hex digits."""
+def files_sha256(paths: Iterable[Path], length: int = 16, root: Path | None = None) -> str:
+    """SHA-256 over (name, bytes) of several files, in name order; ``length`` hex digits. The
+    name is the file's name, or its path relative to ``root`` when given."""
+
+    def name(path: Path) -> str:
+        return path.name if root is None else path.relative_to(root).as_posix()
+
     h = hashlib.sha256()
-    for path in sorted(paths, key=lambda p: p.name):
-        h.update(path.name.encode() + b"\0" + path.read_bytes() + b"\0")
+    for path in sorted(paths, key=name):
+        h.update(name(path).encode() + b"\0" + path.read_bytes() + b"\0")
     return h.hexdigest()[:length]
 
 
 def tree_sha256(root: Path, pattern: str, length: int = 16) -> str:
-    """SHA-256 over (relative path, bytes) of the files under ``root`` matching ``pattern``, in
-    path order: the same tree gives the same digest wherever it is checked out."""
-    h = hashlib.sha256()
-    for path in sorted(root.rglob(pattern), key=lambda p: p.relative_to(root).as_posix()):
-        h.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
-    return h.hexdigest()[:length]
+    """:func:`files_sha256` of the files under ``root`` matching ``pattern``, named by their path
+    relative to it: the same tree gives the same digest wherever it is checked out."""
+    return files_sha256(root.rglob(pattern), length, root)
 
 
 def models_digest(directory: Path) -> str:

@@ -30,6 +30,18 @@ class Dataset:
     figure: Any  # a few samples (matplotlib)
 
 
+def built_from(params: Params) -> dict[str, Any]:
+    """The params a dataset is built from (dvc.yaml's ``dataset`` params), which its metadata
+    hashes: a hash of all of them rewrote the dataset, and every digest downstream, on an edit
+    of a later stage's settings (the polish budget, the report)."""
+    return {
+        "seed": params.base.seed,
+        "robot": params.robot,
+        "timing": params.selected_robot.timing.model_dump(),
+        "dataset": params.dataset.model_dump(),
+    }
+
+
 def build(params: Params, acquisition: Path, imported: Path) -> Dataset:
     """Resample every ok sample, split and normalise on train; a duplicate key is an error."""
     from ftfof.report.figures import dataset_figure
@@ -48,7 +60,7 @@ def build(params: Params, acquisition: Path, imported: Path) -> Dataset:
     manifest = acquisition / MANIFEST
     sim_versions = json.loads(manifest.read_text()).get("versions", {}) if manifest.exists() else {}
     meta = {
-        "params_hash": json_sha256(params.model_dump(), 16),
+        "params_hash": json_sha256(built_from(params), 16),
         "robot": params.robot,
         "surface": params.surface,
         "exudyn": sim_versions.get("exudyn", versions()["exudyn"]),

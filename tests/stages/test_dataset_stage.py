@@ -16,7 +16,7 @@ from ftfof.data.acquisition import to_table
 from ftfof.sim.pool import run_all
 from ftfof.trajectory.sampling import sample_feasible
 from stages.cli import app
-from tests.conftest import dataset_args
+from tests.conftest import dataset_args, write_params
 from tests.data.fake import fake_acquisition
 from tests.sim.helpers import bench
 
@@ -167,3 +167,19 @@ def test_simulated_samples_exported_as_logs_and_imported_back_give_the_same_rows
         np.testing.assert_allclose(sb, sa, rtol=1e-3, atol=1e-3, err_msg=name)
     for name in ("body_acc", "curvature"):  # no IMU and no film channel in a force log
         assert np.isnan(series(b, name)).all(), name
+
+
+def test_a_later_stage_s_settings_leave_the_dataset_bytes_unchanged(built, raw_params, tmp_path):
+    """The metadata hashes the params the dataset is built from, not every stage's."""
+    data = {**raw_params, "polish": {**raw_params["polish"], "generations": 3}}
+    data["evaluate"] = {**raw_params["evaluate"], "front_points": 2}
+    params = write_params(tmp_path / "params.yaml", data)
+    result = runner.invoke(app, dataset_args(tmp_path, built / "acq", params=params))
+    assert result.exit_code == 0, result.stderr
+    original = (built / "ds" / "samples.parquet").read_bytes()
+    assert (tmp_path / "ds" / "samples.parquet").read_bytes() == original
+    data["dataset"] = {**raw_params["dataset"], "validation_fraction": 0.3}
+    params = write_params(tmp_path / "split.yaml", data)
+    result = runner.invoke(app, dataset_args(tmp_path / "s", built / "acq", params=params))
+    assert result.exit_code == 0, result.stderr
+    assert (tmp_path / "s" / "ds" / "samples.parquet").read_bytes() != original

@@ -60,7 +60,7 @@ from ftfof.pipeline.jobs import FINAL, Acquisition, close_resumable, open_resuma
 from ftfof.robot import RobotContext, robot_context
 from ftfof.seeds import seed_for
 from ftfof.surrogate.store import FILE, TrainingData, read_dataset
-from ftfof.trajectory.bezier import DECISION_NAMES
+from ftfof.trajectory.bezier import DECISION_NAMES, same_trajectory
 
 ROUND = "round.json"
 DIGITS = 6  # of the fidelity numbers in round.json and the report
@@ -255,7 +255,7 @@ def nominees_of(
     origin = [m.origin for m in measured for _ in m.X]
     _, first = np.unique(X, axis=0, return_index=True)
     first = np.sort(first)
-    keep = np.isfinite(F[first]).all(axis=1) & ~_among(X[first], refused)
+    keep = np.isfinite(F[first]).all(axis=1) & ~same_trajectory(X[first], refused)
     first = first[keep]
     if first.size == 0:
         return None
@@ -267,14 +267,6 @@ def nominees_of(
     return Nominees(X[ranked], [origin[i] for i in ranked])
 
 
-def _among(X: np.ndarray, rows: np.ndarray | None) -> np.ndarray:
-    """Per row of ``X``, whether it is one of ``rows`` (to a nanometre: the decision values
-    pass through the policy's free variables and back)."""
-    if rows is None or len(rows) == 0 or len(X) == 0:
-        return np.zeros(len(X), dtype=bool)
-    return (np.abs(X[:, None, :] - rows[None, :, :]).max(axis=-1) <= 1e-9).any(axis=1)
-
-
 def _unseen(rows: pa.Table, tables: list[pa.Table]) -> pa.Table:
     """``rows`` but those whose trajectory (decision values) a table already holds: a nominee
     optimum is re-simulated in the next round, and is in the training data already (the same
@@ -282,7 +274,7 @@ def _unseen(rows: pa.Table, tables: list[pa.Table]) -> pa.Table:
     names = list(DECISION_NAMES)
     seen = np.vstack([t.select(names).to_pandas().to_numpy(float) for t in tables])
     new = rows.select(names).to_pandas().to_numpy(float)
-    return rows.filter(pa.array(~_among(new, seen)))
+    return rows.filter(pa.array(~same_trajectory(new, seen)))
 
 
 def _refused(optimize: Path) -> np.ndarray:
@@ -411,7 +403,6 @@ def _search(
     from ftfof.pipeline.optimize import build_setup, write_front
     from ftfof.pipeline.simcheck import simulator_check
     from ftfof.surrogate.store import load_surrogate
-    from ftfof.trajectory.bezier import DECISION_NAMES
 
     members = inputs.front[inputs.front.origin == FRONT]  # nominees are not of the front
     setup = build_setup(

@@ -42,6 +42,14 @@ DEGREE = 5
 Array = NDArray[np.float64]
 
 
+def same_trajectory(X: Array, rows: Array | None) -> NDArray[np.bool_]:
+    """Per row of ``X``, whether it is one of ``rows`` (decision rows, to a nanometre: decision
+    values pass through a policy's free variables and back, and through Parquet)."""
+    if rows is None or len(rows) == 0 or len(X) == 0:
+        return np.zeros(len(X), dtype=bool)
+    return (np.abs(X[:, None, :] - rows[None, :, :]).max(axis=-1) <= 1e-9).any(axis=1)
+
+
 def decision_to_points(X: Array) -> Array:
     """(pop, 12) decision vectors in the paper's order -> (pop, 6, 2): P3 P4 P5 P10 P11 P12."""
     X = np.asarray(X, dtype=float)

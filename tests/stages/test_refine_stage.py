@@ -14,7 +14,7 @@ from typer.testing import CliRunner
 from ftfof.pipeline import training
 from ftfof.pipeline.digests import models_digest
 from ftfof.pipeline.jobs import Acquisition
-from ftfof.trajectory.bezier import DECISION_NAMES
+from ftfof.trajectory.bezier import DECISION_NAMES, same_trajectory
 from stages.cli import app
 from tests.conftest import optimize_args, refine_args, tree_bytes, write_params
 from tests.stages.conftest import TINY_OPTIMIZE
@@ -93,7 +93,7 @@ def test_two_rounds_append_rows_with_their_source_and_hold_some_out(optimized, r
         ok = sims.to_pandas().query("status == 'ok'")[names].to_numpy(float)
         # every successful simulation whose trajectory the data does not hold yet (a nominee
         # optimum, or a front member the warm-started search kept from an earlier round, does)
-        new = ~(abs(ok[:, None, :] - seen[None, :, :]).max(axis=-1) <= 1e-9).any(axis=1)
+        new = ~same_trajectory(ok, seen)
         assert len(rows) == r["added"] == new.sum() >= 1
         seen = np.vstack([seen, ok[new]])
         assert all(k.startswith(f"refine:{r['round']}:") for k in rows.key)

@@ -11,6 +11,7 @@ from ftfof.trajectory.bezier import (
     evaluate,
     evaluate_points,
     points_to_decision,
+    same_trajectory,
 )
 from tests.conftest import PUBLISHED_M3F
 
@@ -116,3 +117,11 @@ def test_decision_vector_round_trip():
     np.testing.assert_array_equal(
         points_to_decision(decision_to_points(PUBLISHED_M3F)), PUBLISHED_M3F
     )
+
+
+def test_same_trajectory_matches_decision_rows_to_a_nanometre():
+    rows = np.array([np.full(12, 0.01), np.full(12, 0.02)])
+    X = np.vstack([rows[1] + 5e-10, rows[0] + 2e-9, np.full(12, 0.03)])
+    assert same_trajectory(X, rows).tolist() == [True, False, False]
+    assert same_trajectory(X, None).tolist() == [False] * 3
+    assert same_trajectory(X[:0], rows).shape == (0,)

@@ -31,6 +31,6 @@ def landing_fault(peak: float, held: float, target: float, tolerance: float | No
         return ""
     band = f"outside a = {target:.2f} N ± {100 * tolerance:.0f} %"
     for what, value in (("pressed", peak), ("held", held)):
-        if abs(value - target) > tolerance * target:
+        if not abs(value - target) <= tolerance * target:  # NaN: no press measured
             return f"the landing {what} {value:.2f} N, {band}"
     return ""

@@ -36,7 +36,7 @@ def release_fault(
     """ "" for a clean release, else what went wrong (for a message)."""
     if not math.isfinite(switch_time):
         return "the pad never let go"
-    if max_clearance < required:
+    if not max_clearance >= required:  # NaN: no clearance measured, no clean release
         return (
             f"the pad rose only {1e3 * max_clearance:.1f} mm above the wall "
             f"(needs {1e3 * required:.1f} mm)"

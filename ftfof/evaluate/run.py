@@ -13,13 +13,12 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from ftfof.config import Params, Timing
+from ftfof.config import Params
 from ftfof.data import targets
 from ftfof.data.dataset import CHANNELS
-from ftfof.data.landing import held_press, landing_fault
-from ftfof.data.release import release_fault
-from ftfof.data.shake import shake_fault
+from ftfof.data.faults import FootRules, foot_faults, foot_rules
 from ftfof.errors import DataError, SimulationError
+from ftfof.evaluate.choice import TABLE_ANALOGUE, Candidate, choice_summary, rhs_candidates
 from ftfof.evaluate.export import ControllerTrajectory, ExportRateError, controller_trajectory
 from ftfof.evaluate.fidelity import Fidelity, fidelity, simulated_objectives
 from ftfof.evaluate.table import COLUMNS, PAPER_TABLE_I, PEAKS, TableRow, table_one
@@ -113,36 +112,23 @@ def table_rows(df: pd.DataFrame, reference: str, T3: float) -> list[TableRow]:
     return table_one(peaks, reference, COLUMNS)
 
 
-def front_members(
-    df: pd.DataFrame,
-    timing: Timing,
-    pre_pressure: float,
-    film: FilmLimit,
-    clearance: float,
-    landing_tolerance: float | None,
-    landing_hold: float,
-    body_acc_limit: float | None = None,
-) -> dict:
+def front_members(df: pd.DataFrame, T3: float, rules: FootRules, film: FilmLimit) -> dict:
     """The re-simulated optimum and front members side by side: what each trades (pull, jitter,
     landing press), whether its film survives, its pad lets go and clears the wall, it lands
-    pressing within the robot's tolerance of a and the body shakes within the robot's limit, so
-    the choice can be judged in simulation."""
+    pressing within the robot's tolerance of a and the body shakes within the robot's limit
+    (``rules``, the simulator check's; ``film`` says where the film limit comes from), so the
+    choice can be judged in simulation."""
     sims = simulated_rows(df)
     members = []
     for _, row in sims.iterrows():  # a few tens of rows, once per evaluation
-        f = figures_of(row, timing.T3)
-        fault = release_fault(
+        f = figures_of(row, T3)
+        faults = foot_faults(
             np.asarray(row.t, dtype=float),
             np.asarray(row.bonds, dtype=float),
-            row.switch_time,
-            row.max_clearance,
-            clearance,
-            timing.T2,
+            np.asarray(row.Fp, dtype=float),
+            {**f, "switch_time": float(row.switch_time), "max_clearance": float(row.max_clearance)},
+            rules,
         )
-        held = held_press(np.asarray(row.t, float), np.asarray(row.Fp, float), landing_hold)
-        landed = landing_fault(f["landing_pre_pressure"], held, pre_pressure, landing_tolerance)
-        film_safe = bool(f["min_bend_radius"] >= film.radius)
-        shook = shake_fault(f["peak_body_acc"], body_acc_limit)
         members.append(
             {
                 "row": int(row.sample_id),
@@ -150,19 +136,18 @@ def front_members(
                 "peak_pull": round(f["peak_pull"], 4),
                 "jitter": round(f["jitter"], 4),
                 "landing_pre_pressure_error": round(
-                    abs(f["landing_pre_pressure"] - pre_pressure), 4
+                    abs(f["landing_pre_pressure"] - rules.pre_pressure), 4
                 ),
                 "min_bend_radius": round(f["min_bend_radius"], 6),
-                "film_safe": film_safe,
+                "film_safe": not faults.film,
                 "max_clearance": round(float(row.max_clearance), 6),
-                "lets_go": not fault,
-                "release_fault": fault,
-                "lands": not landed,
-                "landing_fault": landed,
-                "calm": not shook,
-                "shake_fault": shook,
-                # a real foot could run it
-                "clean": film_safe and not fault and not landed and not shook,
+                "lets_go": not faults.release,
+                "release_fault": faults.release,
+                "lands": not faults.landing,
+                "landing_fault": faults.landing,
+                "calm": not faults.shake,
+                "shake_fault": faults.shake,
+                "clean": faults.clean,  # a real foot could run it
             }
         )
 
@@ -177,25 +162,17 @@ def front_members(
         "calm_fraction": fraction("calm"),
         "clean_fraction": fraction("clean"),
         "film_limit": film.as_dict(),
-        "swing_clearance": clearance,
-        "landing_tolerance": landing_tolerance,
-        "body_acc_limit": body_acc_limit,
+        "swing_clearance": rules.swing_clearance,
+        "landing_tolerance": rules.landing_tolerance,
+        "body_acc_limit": rules.body_acc_limit,
     }
 
 
 def judged_front(params: Params, ctx: RobotContext, df: pd.DataFrame) -> dict:
-    """:func:`front_members` with the robot's film, clearance, landing and shake rules."""
-    robot = ctx.robot
-    return front_members(
-        df,
-        ctx.policy.timing,
-        robot.pre_pressure,
-        film_limit(robot, params.selected_surface),
-        robot.foot.swing_clearance,
-        robot.landing_tolerance,
-        params.platform.protocol.landing_hold,
-        robot.body_acc_limit,
-    )
+    """:func:`front_members` with the robot's rules."""
+    robot, surface = ctx.robot, params.selected_surface
+    rules = foot_rules(robot, surface, params.platform.protocol.landing_hold)
+    return front_members(df, ctx.policy.timing.T3, rules, film_limit(robot, surface))
 
 
 def simulated_rows(df: pd.DataFrame) -> pd.DataFrame:
@@ -257,8 +234,9 @@ def metrics(
     controller: ControllerTrajectory,
     n_fidelity: int,
     front: dict[str, Any],
+    candidates: list[Candidate],
 ) -> dict[str, Any]:
-    """The stage's metrics: Table I changes, the paper's, fidelity and the export."""
+    """The stage's metrics: Table I changes, the paper's, fidelity, the choice and the export."""
 
     def entry(row) -> dict:
         out = {}
@@ -277,6 +255,7 @@ def metrics(
         "fidelity": {f.objective: f.as_dict() for f in fid},
         "fidelity_points": n_fidelity,
         "front_simulated": front,
+        "choice": choice_summary(candidates),
         "optimum_front_row": inputs.optimum["front_row"],
         "optimum_origin": inputs.optimum[
             "origin"
@@ -296,8 +275,12 @@ def simulation_figures(
     simulated: np.ndarray,
     objectives: list[str],
     reference: str,
+    rows: list[TableRow],
+    candidates: list[Candidate],
 ) -> dict[str, str]:
-    """Fig. 11, 12, 14 from the simulated channels of the optimum and baselines; fidelity."""
+    """Fig. 11, 12, 14 from the simulated channels of the optimum and baselines; fidelity; the
+    choice among the simulated candidates (when there were any), with the reference trajectory
+    and the published optimum placed by their Table I values."""
     from ftfof.report.evaluation import fidelity_figure, forces_figure, jitter_figure, paths_figure
     from ftfof.report.html import figure_data_uri
 
@@ -305,12 +288,33 @@ def simulation_figures(
         name: {c: np.asarray(row[c], dtype=float) for c in PLOTTED}
         for name, row in compared(df, reference).items()
     }
-    return {
+    figures = {
         "paths": figure_data_uri(paths_figure(channels, OPTIMUM)),
         "forces": figure_data_uri(forces_figure(channels, OPTIMUM)),
         "jitter": figure_data_uri(jitter_figure(channels, OPTIMUM)),
         "fidelity": figure_data_uri(fidelity_figure(objectives, predicted, simulated, 0)),
     }
+    if candidates:
+        figures["choice"] = figure_data_uri(_choice_figure(objectives, rows, reference, candidates))
+    return figures
+
+
+def _choice_figure(
+    objectives: list[str], rows: list[TableRow], reference: str, candidates: list[Candidate]
+):
+    """The choice on the first two priorities; the reference trajectory and the published optimum
+    placed where Table I measures those objectives on one nominal run, if it does."""
+    from ftfof.report.evaluation import choice_figure
+
+    axes = (objectives[0], objectives[1])
+    columns = [TABLE_ANALOGUE.get(name) for name in axes]
+    placed: dict[str, tuple[float, float]] = {}
+    if None not in columns:
+        table = {r.trajectory: r.values for r in rows}
+        for name in (reference, PAPER_OPTIMUM.removeprefix("baseline:")):
+            if name in table:
+                placed[name] = (table[name][columns[0]], table[name][columns[1]])
+    return choice_figure(candidates, axes, placed)
 
 
 def context(
@@ -322,6 +326,7 @@ def context(
     summary: dict[str, Any],
     predicted: np.ndarray,
     simulated: np.ndarray,
+    candidates: list[Candidate],
 ) -> dict[str, Any]:
     """The report template's values, but for the figures and the export path."""
     import exudyn
@@ -347,6 +352,9 @@ def context(
             for c, label, unit in COLUMNS
         ],
         "front_simulated": summary["front_simulated"],
+        "choice": _choice_context(
+            inputs.optimum["rhs"], candidates, inputs.objectives[0], summary["choice"]
+        ),
         "paper_columns": [{"key": c, "label": label} for c, label, _ in PEAKS],
         "table": [
             {"trajectory": r.trajectory, "values": r.values, "change": r.change} for r in rows
@@ -368,6 +376,22 @@ def context(
             "within_limits": export["within_joint_limits"],
             "peak_speed": ", ".join(f"{v:.2f}" for v in export["peak_joint_speed"]),
         },
+    }
+
+
+def _choice_context(
+    rhs: dict[str, Any], candidates: list[Candidate], first: str, summary: dict[str, Any]
+) -> dict[str, Any]:
+    """The choice's table (sorted by the ``first`` priority), its ``summary`` (the metrics) and
+    RHS's visits, for the template."""
+    return {
+        "summary": summary,
+        "candidates": sorted(candidates, key=lambda c: (c.mean[first], c.row)),
+        "alpha": rhs["alpha"],
+        "beta": rhs["beta"],
+        "resolution": rhs["resolution"],
+        "steps": [{**s, "kept": len(s["remaining"])} for s in rhs["steps"]],
+        "tie_break": rhs["tie_break"],
     }
 
 
@@ -395,7 +419,10 @@ def evaluate(
     fid, predicted, simulated = fidelity_of(inputs, table, ctx, surrogate)
     controller = export(ctx, inputs, cfg.export_rate_hz)
     n_fidelity = len(predicted) - (0 if from_front(inputs) else 1)
-    summary = metrics(params, inputs, rows, fid, controller, n_fidelity, front)
-    figures = simulation_figures(table, predicted, simulated, inputs.objectives, cfg.reference)
-    values = context(params, ctx, inputs, rows, fid, summary, predicted, simulated)
+    candidates = rhs_candidates(inputs.optimum, inputs.objectives)
+    summary = metrics(params, inputs, rows, fid, controller, n_fidelity, front, candidates)
+    figures = simulation_figures(
+        table, predicted, simulated, inputs.objectives, cfg.reference, rows, candidates
+    )
+    values = context(params, ctx, inputs, rows, fid, summary, predicted, simulated, candidates)
     return Evaluation(summary, values, figures, controller)

@@ -9,9 +9,7 @@ import numpy as np
 
 from ftfof.config import Params
 from ftfof.data import targets
-from ftfof.data.landing import held_press, landing_fault
-from ftfof.data.release import release_fault
-from ftfof.data.shake import shake_fault
+from ftfof.data.faults import foot_faults, foot_rules
 from ftfof.evaluate.fidelity import simulated_objectives
 from ftfof.optimize.select import SimulatorCheck, Verdict
 from ftfof.pipeline.bench import bench
@@ -48,22 +46,17 @@ def simulator_check(params: Params, ctx: RobotContext) -> SimulatorCheck:
     each as it is and ``optimize.verify_copies`` times with every free control value off by a
     normal error of ``optimize.verify_repeatability``, with the robot's objectives (the mean over
     those runs) from the simulated forces (binned as the surrogate's targets). A row passes when
-    every run of it passes: the run succeeds, the pad lets go
-    cleanly (:func:`ftfof.data.release.release_fault`: the switch trips, the whole pad rises
-    ``foot.swing_clearance`` above the wall and stays off it until the landing), the film's
-    minimum bend radius stays at or above its safety limit (:class:`ftfof.sim.film.FilmLimit`),
-    the landing presses within the robot's tolerance of a (:mod:`ftfof.data.landing`) and the
-    body shakes no harder than the robot's limit (:mod:`ftfof.data.shake`)."""
-    from ftfof.sim.film import film_limit
+    every run of it passes: the run succeeds, the robot's rules hold (:mod:`ftfof.data.faults`:
+    the pad lets go cleanly, the film stays at or above its safety limit, the landing presses
+    within the robot's tolerance of a, the body shakes no harder than the robot's limit) and
+    every objective is finite."""
     from ftfof.sim.pool import run_local
     from ftfof.sim.records import SampleResult
 
     on = bench(params, ctx)
     d = params.dataset
     force_t = targets.time_base(ctx.policy.timing.T3, d.hold, d.seq_len)
-    limit = film_limit(ctx.robot, params.selected_surface).radius
-    clearance = ctx.robot.foot.swing_clearance
-    landing_start = ctx.policy.timing.T2
+    rules = foot_rules(ctx.robot, params.selected_surface, params.platform.protocol.landing_hold)
 
     cfg = params.optimize
     off_mm = 1e3 * cfg.verify_repeatability
@@ -126,42 +119,21 @@ def simulator_check(params: Params, ctx: RobotContext) -> SimulatorCheck:
         if not result.ok:
             return Verdict(row, False, f"simulation failed: {result.error}", measured)
         c = result.channels
-        fault = release_fault(
-            c["t"],
-            c["bonds"],
-            measured["switch_time"],
-            measured["max_clearance"],
-            clearance,
-            landing_start,
-        )
-        if fault:
+        faults = foot_faults(c["t"], c["bonds"], c["Fp"], measured, rules)
+        measured["landing_held_pressure"] = faults.held_press
+        if faults.release:
             pull = measured["peak_pull"]
-            return Verdict(row, False, f"{fault} (peak pull {pull:.1f} N)", measured)
-        bend = measured["min_bend_radius"]
-        if bend < limit:
-            return Verdict(
-                row,
-                False,
-                f"film bent to {1e3 * bend:.2f} mm, below its {1e3 * limit:.2f} mm limit",
-                measured,
-            )
-        measured["landing_held_pressure"] = held_press(
-            c["t"], c["Fp"], params.platform.protocol.landing_hold
-        )
-        landed = landing_fault(
-            measured["landing_pre_pressure"],
-            measured["landing_held_pressure"],
-            ctx.robot.pre_pressure,
-            ctx.robot.landing_tolerance,
-        )
-        if landed:
-            return Verdict(row, False, landed, measured)
-        shook = shake_fault(measured["peak_body_acc"], ctx.robot.body_acc_limit)
-        if shook:
-            return Verdict(row, False, shook, measured)
+            return Verdict(row, False, f"{faults.release} (peak pull {pull:.1f} N)", measured)
+        if faults.first:
+            return Verdict(row, False, faults.first, measured)
         objectives = simulated_objectives(
             ctx.robot.objectives, ctx.policy, X, [c], force_t, d.hold, ctx.robot.pre_pressure
         )[0]
+        broken = [
+            n for n, v in zip(ctx.robot.objectives, objectives, strict=True) if not np.isfinite(v)
+        ]
+        if broken:
+            return Verdict(row, False, f"no finite {', '.join(broken)} from its forces", measured)
         return Verdict(row, True, "", measured, [float(v) for v in objectives])
 
     return check

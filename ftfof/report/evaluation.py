@@ -1,4 +1,5 @@
-"""Figures of the evaluation report: FTFOF Fig. 11 (paths), 12 (forces), 14 (jitter), fidelity."""
+"""Figures of the evaluation report: FTFOF Fig. 11 (paths), 12 (forces), 14 (jitter), fidelity,
+and the choice among the simulated candidates."""
 
 from __future__ import annotations
 
@@ -11,7 +12,21 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.figure import Figure
 
+from ftfof.evaluate.choice import CHOSEN, Candidate
+
 OPTIMUM_STYLE = {"color": "crimson", "lw": 2.2, "zorder": 5}
+# the visits that removed candidates: tab10 without its red, which marks the chosen one
+REMOVED_COLOURS = (
+    "tab:blue",
+    "tab:orange",
+    "tab:green",
+    "tab:purple",
+    "tab:brown",
+    "tab:pink",
+    "tab:gray",
+    "tab:olive",
+    "tab:cyan",
+)
 
 
 def _style(name: str, optimum: str) -> dict:
@@ -67,4 +82,41 @@ def fidelity_figure(
         ax.set(xlabel=f"simulated {name}", ylabel=f"predicted {name}")
     axes[0, 0].legend(fontsize=8)
     fig.suptitle("surrogate fidelity")
+    return fig
+
+
+def choice_figure(
+    candidates: Sequence[Candidate],
+    axes_names: tuple[str, str],
+    references: Mapping[str, tuple[float, float]],
+) -> Figure:
+    """The candidates RHS chose among on its first two priorities (simulated means, ± one
+    standard deviation over their runs), coloured by the visit that removed them; the chosen one
+    as a star and the ``references`` (nominal runs of named trajectories) as crosses."""
+    x_name, y_name = axes_names
+    fig, ax = plt.subplots(figsize=(7.5, 4.6), constrained_layout=True)
+    groups: dict[str, list[Candidate]] = {}
+    for c in sorted(candidates, key=lambda c: c.visit):
+        groups.setdefault(c.removed_by, []).append(c)
+    others = iter(REMOVED_COLOURS)
+    for removed_by, members in groups.items():
+        x = np.array([c.mean[x_name] for c in members])
+        y = np.array([c.mean[y_name] for c in members])
+        xerr = np.array([c.spread.get(x_name, 0.0) for c in members])
+        yerr = np.array([c.spread.get(y_name, 0.0) for c in members])
+        if removed_by == CHOSEN:
+            style = {"color": "crimson", "marker": "*", "ms": 16, "zorder": 6, "label": "chosen"}
+        else:
+            style = {"color": next(others), "marker": "o", "ms": 6, "alpha": 0.85}
+            style["label"] = f"removed by {removed_by}"
+        ax.errorbar(x, y, xerr=xerr, yerr=yerr, ls="none", elinewidth=0.8, capsize=2, **style)
+    for name, (x, y) in references.items():
+        ax.plot(x, y, marker="X", ms=10, ls="none", color="0.25")
+        ax.annotate(name, (x, y), textcoords="offset points", xytext=(6, 4), fontsize=8)
+    ax.set(
+        xlabel=f"simulated {x_name} (mean over the runs)",
+        ylabel=f"simulated {y_name} (mean over the runs)",
+        title="the candidates RHS chose among, as simulated",
+    )
+    ax.legend(fontsize=8)
     return fig

@@ -6,8 +6,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from ftfof.config import Timing
 from ftfof.data.dataset import CHANNELS
+from ftfof.data.faults import FootRules
 from ftfof.errors import SimulationError
 from ftfof.evaluate.run import (
     OPTIMUM,
@@ -100,16 +100,17 @@ def test_front_members_show_each_trade_and_the_film_verdict():
     sims["switch_time"] = [0.3, float("nan")]  # the second never let go
     sims["Fp"] = [np.where(t > 1.0, 5.2, 0.0) for t in sims["t"]]  # the first holds 5.2 N
     sims["peak_body_acc"] = [8.0, 12.0]
-    out = front_members(
-        sims,
-        Timing(T1=0.3, T2=0.6, T3=T3),
-        5.0,
-        FilmLimit(fc=0.006, peel_root=0.002, fraction=0.75),
-        clearance=0.009,
+    film = FilmLimit(fc=0.006, peel_root=0.002, fraction=0.75)
+    rules = FootRules(
+        film_limit=film.radius,
+        swing_clearance=0.009,
+        landing_start=0.6,
+        pre_pressure=5.0,
         landing_tolerance=0.15,
         landing_hold=0.25,
         body_acc_limit=9.81,
     )
+    out = front_members(sims, T3, rules, film)
     first, other = out["members"]
     assert first["optimum"] and first["row"] == 7 and first["film_safe"]
     assert other["row"] == 3 and not other["film_safe"]

@@ -26,7 +26,8 @@ def test_report_is_self_contained_and_every_image_decodes(evaluated):
     html = (work / "report.html").read_text()
     assert not re.search(r"(?:https?:)?//[a-z0-9.-]+\.[a-z]{2,}", html, re.I), "external URL"
     sources = re.findall(r"""<img[^>]+src=["']([^"']+)["']""", html)
-    assert len(sources) == 10  # paths, forces, jitter, fidelity, refinement, 3 Pareto, 2 training
+    # paths, forces, jitter, the choice, fidelity, refinement, 3 Pareto, 2 training
+    assert len(sources) == 11
     for src in sources:
         assert src.startswith("data:image/png;base64,")
         image = Image.open(io.BytesIO(base64.b64decode(src.split(",", 1)[1])))
@@ -34,6 +35,19 @@ def test_report_is_self_contained_and_every_image_decodes(evaluated):
     assert not re.search(r"""(?:href|src)=["'](?!data:|#)""", html)
     for name in ROWS:
         assert f"<td>{name}</td>" in html
+    assert "How the optimum was chosen" in html
+    chosen = json.loads((work / "metrics.json").read_text())["optimum_front_row"]
+    assert f"<td>{chosen} (optimum)</td>" in html  # in the choice's table and the front's
+
+
+def test_the_choice_is_among_the_polished_candidates_as_the_simulator_measured_them(evaluated):
+    work, *_ = evaluated
+    choice = json.loads((work / "metrics.json").read_text())["choice"]
+    assert choice["candidates"] >= 1 and choice["runs"] == 5  # nominal + 4 fresh copies
+    assert sum(choice["removed_by"].values()) == choice["candidates"] - 1
+    assert set(choice["chosen"]) == {"fs1", "fsj", "fs3", "fs7", "fs2", "fs5"}
+    for name, value in choice["chosen"].items():
+        assert choice["lowest"][name] <= value
 
 
 def test_metrics_table_and_controller_export(evaluated):

@@ -1,0 +1,66 @@
+"""The robot's rules on one simulated step, as the simulator check and the report both read them:
+each fault named, told in the check's order, and a value the simulation did not give breaks its
+rule instead of passing it."""
+
+import numpy as np
+import pytest
+
+from ftfof.data.faults import FootRules, foot_faults
+
+TIME = np.arange(0.0, 1.3, 1e-3)
+BONDS = np.where(TIME < 0.3, 10.0, np.where(TIME > 1.0, 10.0, 0.0))  # released, then landed
+RULES = FootRules(
+    film_limit=0.0016,
+    swing_clearance=0.009,
+    landing_start=0.6,
+    pre_pressure=5.0,
+    landing_tolerance=0.1,
+    landing_hold=0.25,
+    body_acc_limit=9.81,
+)
+GOOD = {
+    "switch_time": 0.32,
+    "max_clearance": 0.03,
+    "min_bend_radius": 0.0022,
+    "landing_pre_pressure": 5.1,
+    "peak_body_acc": 6.0,
+}
+
+
+def _faults(press: float = 5.0, **scalars: float):
+    Fp = np.where(TIME > 1.0, press, 0.0)
+    return foot_faults(TIME, BONDS, Fp, {**GOOD, **scalars}, RULES)
+
+
+def test_a_step_within_every_rule_is_clean_and_reports_the_held_press():
+    faults = _faults(press=4.8)
+    assert faults.clean and faults.first == ""
+    assert faults.held_press == pytest.approx(4.8)
+
+
+def test_each_rule_names_its_fault_and_the_first_is_told_in_the_check_s_order():
+    faults = _faults(press=4.0, max_clearance=0.004, min_bend_radius=0.0012, peak_body_acc=12.0)
+    assert faults.release == "the pad rose only 4.0 mm above the wall (needs 9.0 mm)"
+    assert faults.film == "film bent to 1.20 mm, below its 1.60 mm limit"
+    assert faults.landing == "the landing held 4.00 N, outside a = 5.00 N ± 10 %"
+    assert faults.shake == "the body shook 12.0 m/s², above the robot's 9.81 m/s² limit"
+    assert faults.first == faults.release and not faults.clean
+    assert _faults(min_bend_radius=0.0012, peak_body_acc=12.0).first == faults.film
+    assert _faults(peak_body_acc=12.0).first == faults.shake
+
+
+@pytest.mark.parametrize(
+    ("scalar", "rule"),
+    [
+        ("max_clearance", "release"),
+        ("min_bend_radius", "film"),
+        ("landing_pre_pressure", "landing"),
+        ("peak_body_acc", "shake"),
+    ],
+)
+def test_a_value_the_simulation_did_not_give_breaks_its_rule(scalar, rule):
+    faults = _faults(**{scalar: float("nan")})
+    assert getattr(faults, rule) and not faults.clean
+    assert [name for name in ("release", "film", "landing", "shake") if getattr(faults, name)] == [
+        rule
+    ]

@@ -90,11 +90,6 @@ def rhs_trace(
     return RHSResult(int(rows[0]), tuple(steps), tie_break, given)
 
 
-def rhs_select(F: ArrayLike, priority: Sequence[int], alpha: float = 0.9, beta: float = 0.9) -> int:
-    """Row index of the front ``F`` chosen by the redundancy hierarchical strategy."""
-    return rhs_trace(F, priority, alpha, beta).index
-
-
 def _validated(
     F: ArrayLike, priority: Sequence[int], alpha: float, beta: float
 ) -> NDArray[np.float64]:

@@ -234,9 +234,16 @@ def verified_rhs(
             "optimize.verify_candidates or optimize.verify_batches, or retrain the surrogates "
             "where they fail",
         )
-    simulated = np.array([v.simulated for v in passed])
-    rhs = rhs_trace(simulated, priority, cfg.rhs_alpha, cfg.rhs_beta, resolution(passed))
+    rhs = rhs_on_verdicts(passed, cfg)
     return passed[rhs.index].row, rhs, np.array([v.row for v in passed]), verdicts
+
+
+def rhs_on_verdicts(passed: Sequence[Verdict], cfg: Optimize) -> RHSResult:
+    """RHS among candidates the simulator check passed, on their simulated objectives (in
+    priority order); differences within the check's resolution are ties."""
+    simulated = np.array([v.simulated for v in passed], dtype=float)
+    priority = list(range(simulated.shape[1]))
+    return rhs_trace(simulated, priority, cfg.rhs_alpha, cfg.rhs_beta, resolution(passed))
 
 
 def rhs_ranking(F: np.ndarray, rows: np.ndarray, cfg: Optimize, limit: int) -> list[int]:
@@ -328,7 +335,7 @@ def optimum_record(
             "resolution": dict(zip(names, outcome.rhs.resolution, strict=True))
             if outcome.rhs.resolution
             else None,
-            "among_rows": len(rows),
+            "rows": [int(r) for r in rows],  # the rows RHS chose among
             "steps": [step(s) for s in outcome.rhs.steps],
             "tie_break": outcome.rhs.tie_break,
         },

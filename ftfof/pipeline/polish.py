@@ -22,9 +22,8 @@ import numpy as np
 from ftfof.config import Params
 from ftfof.evaluate.run import Inputs, decision
 from ftfof.optimize.polish import POLISH, Polished, polish
-from ftfof.optimize.rhs import rhs_trace
 from ftfof.optimize.search import SearchSettings
-from ftfof.optimize.select import Outcome, SimulatorCheck, Verdict, fine_policy, resolution
+from ftfof.optimize.select import Outcome, SimulatorCheck, Verdict, fine_policy, rhs_on_verdicts
 from ftfof.pipeline import tracking
 from ftfof.pipeline.console import console
 from ftfof.pipeline.digests import bytes_sha256, models_digest, optimum_digest
@@ -191,9 +190,7 @@ def _outcome(
     recheck = fine_policy(params, ctx).check(evaluation.X)
     rows = np.arange(size, size + len(result.X))
     polished = [replace(v, row=int(r)) for v, r in zip(result.verdicts, rows, strict=True)]
-    simulated = np.array([v.simulated for v in polished])
-    priority = list(range(simulated.shape[1]))
-    rhs = rhs_trace(simulated, priority, opt.rhs_alpha, opt.rhs_beta, resolution(polished))
+    rhs = rhs_on_verdicts(polished, opt)
     earlier = [Verdict(**v) for v in inputs.optimum["simulator_check"]]
     origin = [*inputs.front.origin.tolist(), *[POLISH] * len(rows)]
     index = int(rows[rhs.index])

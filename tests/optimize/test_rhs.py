@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from ftfof.optimize.rhs import rhs_select, rhs_trace
+from ftfof.optimize.rhs import rhs_trace
 
 WORKED = np.array(
     [
@@ -28,7 +28,7 @@ def test_worked_example_from_the_design():
 
 def test_priority_order_changes_the_choice():
     F = np.array([[0.0, 1.0], [1.0, 0.0]])
-    assert rhs_select(F, [0, 1]) == 0 and rhs_select(F, [1, 0]) == 1
+    assert rhs_trace(F, [0, 1]).index == 0 and rhs_trace(F, [1, 0]).index == 1
 
 
 def test_single_row_front_is_its_own_choice():

@@ -10,7 +10,8 @@ surrogate's and may be chosen (docs/rhs.md). It stops after ``refine.rounds``
 rounds, or earlier once the fidelity target on the first-priority objective is met and enough of
 the round's points pass the simulator (the pad lets go, its film survives, it lands: a front of
 exploits the surrogate has not seen can rank fs1 well); the models and optimum that met it are
-then kept as they are.
+then kept as they are. A round none of whose successful simulations is new to the training data
+ends it the same way: there is nothing to fine-tune on.
 
 ``<out>/`` holds one directory per round (``simulations/``, ``models/``, ``optimize/``,
 ``round.json``) and the final ``models/``, ``optimize/`` and grown ``dataset/`` that `evaluate`
@@ -83,7 +84,14 @@ class Round:
     record: dict[str, Any]  # the report's entry but the seconds (kept out of data/refine)
     target_met: bool  # the fidelity target held: nothing was added, the models were kept
     simulated: int  # simulations run by this invocation
+    # none of its successful simulations was new to the training data (a front of known points,
+    # or every new one failed): nothing to fine-tune on, so the rounds end with the models kept
+    nothing_new: bool = False
     seconds: float = 0.0
+
+    @property
+    def last(self) -> bool:
+        return self.target_met or self.nothing_new
 
 
 @dataclass(frozen=True)
@@ -129,7 +137,7 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> dict[str, A
         done.seconds = time.perf_counter() - started
         rounds.append(done)
         _say(done, inputs.objectives[0])
-        if done.target_met:
+        if done.last:
             break
     _publish(paths, state, data)
     report = {"rounds": [{**r.record, "seconds": round(r.seconds, 2)} for r in rounds]}
@@ -172,12 +180,12 @@ def _round(
     saved = rdir / ROUND
     if saved.exists():
         done = json.loads(saved.read_text())
-        if not done["target_met"]:
+        if not done["target_met"] and not done["nothing_new"]:
             table = read_table(rdir / "simulations" / FINAL, ACQUISITION, "simulations")
             state.measured.append(_measured(params, ctx, _ok(table), k))
             state.refused.append(_refused(rdir / "optimize"))
             _advance(state, rdir, _rows(params, _unseen(table, [data.table, *state.added]), k))
-        return Round(done["record"], done["target_met"], 0)
+        return Round(done["record"], done["target_met"], 0, done["nothing_new"])
     from ftfof.surrogate.store import load_surrogate
 
     inputs = read_inputs(state.front, ctx.name)
@@ -192,9 +200,11 @@ def _round(
     first = fid[0].median_relative_error
     optimum_error = relative_error(predicted[0, 0], measured[0, 0]) if from_front(inputs) else first
     met = round_target_met(params.refine.target, fid[0], optimum_error, clean)
+    unseen = _unseen(table, [data.table, *state.added])
+    nothing_new = not met and "ok" not in unseen.column("status").to_pylist()
     added = 0
-    if not met:
-        new = _rows(params, _unseen(table, [data.table, *state.added]), k)
+    if not met and not nothing_new:
+        new = _rows(params, unseen, k)
         added = new.num_rows
         grown = TrainingData(
             grow(data.table, [*state.added, new]),
@@ -212,8 +222,8 @@ def _round(
         state.refused.append(_refused(rdir / "optimize"))
         _advance(state, rdir, new)
     record = _record(k, added, fid, clean, names, predicted[0], measured[0])
-    write_json(saved, {"record": record, "target_met": met})
-    return Round(record, met, simulated)
+    write_json(saved, {"record": record, "target_met": met, "nothing_new": nothing_new})
+    return Round(record, met, simulated, nothing_new)
 
 
 def _measured(params: Params, ctx: RobotContext, ok, k: int) -> Measured:
@@ -444,7 +454,13 @@ def _say(done: Round, first: str) -> None:
         f"median relative error {100 * f['median_relative_error']:.1f} %, optimum "
         f"{opt['predicted'][first]:.4g} predicted vs {opt['simulated'][first]:.4g} simulated; "
         f"{100 * r['clean_fraction']:.0f} % clean; "
-        + ("target met, stop" if done.target_met else f"{r['added']} added")
+        + (
+            "target met, stop"
+            if done.target_met
+            else "nothing new to learn from, stop"
+            if done.nothing_new
+            else f"{r['added']} added"
+        )
         + f"; {done.seconds:.1f} s"
     )
 

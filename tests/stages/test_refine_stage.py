@@ -11,6 +11,7 @@ import pyarrow.parquet as pq
 import pytest
 from typer.testing import CliRunner
 
+from ftfof.pipeline import refine as refine_run
 from ftfof.pipeline import training
 from ftfof.pipeline.digests import models_digest
 from ftfof.pipeline.jobs import Acquisition
@@ -224,6 +225,22 @@ def test_a_met_target_stops_before_training(optimized):
     assert only["added"] == 0 and not (out / "round-1" / "models").exists()
     assert tree_bytes(out / "optimize") == tree_bytes(work / "optimize")
     assert tree_bytes(out / "models") == tree_bytes(tmp / "models")
+
+
+def test_a_round_with_nothing_new_to_learn_from_ends_the_rounds(optimized, monkeypatch):
+    """Every point already in the training data (a front of known trajectories): the first round
+    keeps the models and optimum it started from, and the second never runs."""
+    tmp, work, _, _ = optimized
+    monkeypatch.setattr(refine_run, "_unseen", lambda rows, tables: rows.slice(0, 0))
+    result, out = _refine(optimized, "known")
+    assert result.exit_code == 0, result.output
+    assert "nothing new to learn from, stop" in result.output
+    (only,) = json.loads((work / "known.json").read_text())["rounds"]
+    assert only["added"] == 0 and not (out / "round-1" / "models").exists()
+    assert json.loads((out / "round-1" / "round.json").read_text())["nothing_new"]
+    assert tree_bytes(out / "optimize") == tree_bytes(work / "optimize")
+    assert tree_bytes(out / "models") == tree_bytes(tmp / "models")
+    assert tree_bytes(out / "dataset") == tree_bytes(tmp / "ds")
 
 
 def test_zero_rounds_pass_the_optimize_outputs_on(optimized):

@@ -435,7 +435,7 @@ class Refine(Strict):
 class Polish(Strict):
     """NSGA-II on the simulator, from the candidates the last check passed (optimize/polish.py)."""
 
-    generations: NonNegativeInt = 16  # 0: evaluate gets refine's optimum as it is
+    generations: NonNegativeInt = 24  # 0: evaluate gets refine's optimum as it is
     population: Annotated[int, Field(ge=4)] = 24  # trajectories per generation
     # how many of the robot's objectives, in priority order, the simulator's NSGA-II weighs; the
     # choice among its result is RHS on all of them, as measured

@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 from ftfof.data.landing import held_press, landing_fault
 from ftfof.data.release import release_fault
 from ftfof.data.shake import shake_fault
+from ftfof.sim.film import film_limit
 
 if TYPE_CHECKING:
     from ftfof.config import Robot, Surface
@@ -37,8 +38,6 @@ class FootRules:
 
 def foot_rules(robot: Robot, surface: Surface, landing_hold: float) -> FootRules:
     """``robot``'s rules on ``surface``, the protocol holding the landing press ``landing_hold``."""
-    from ftfof.sim.film import film_limit
-
     return FootRules(
         film_limit=film_limit(robot, surface).radius,
         swing_clearance=robot.foot.swing_clearance,

@@ -9,6 +9,7 @@ the best of each objective was from the trajectory that was chosen.
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -87,14 +88,11 @@ def choice_summary(candidates: Sequence[Candidate]) -> dict[str, Any]:
     names = list(candidates[0].mean)
     means = np.array([[c.mean[n] for n in names] for c in candidates])
     chosen = next(c for c in candidates if c.chosen)
-    removed_by: dict[str, int] = {}
-    for c in candidates:
-        if not c.chosen:
-            removed_by[c.removed_by] = removed_by.get(c.removed_by, 0) + 1
+    removed_by = Counter(c.removed_by for c in candidates if not c.chosen)
     return {
         "candidates": len(candidates),
         "runs": min(c.runs for c in candidates),
         "lowest": {n: round(float(v), 4) for n, v in zip(names, means.min(axis=0), strict=True)},
         "chosen": {n: round(chosen.mean[n], 4) for n in names},
-        "removed_by": removed_by,
+        "removed_by": dict(removed_by),
     }

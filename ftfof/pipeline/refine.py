@@ -200,10 +200,10 @@ def _round(
     first = fid[0].median_relative_error
     optimum_error = relative_error(predicted[0, 0], measured[0, 0]) if from_front(inputs) else first
     met = round_target_met(params.refine.target, fid[0], optimum_error, clean)
-    unseen = _unseen(table, [data.table, *state.added])
-    nothing_new = not met and "ok" not in unseen.column("status").to_pylist()
+    unseen = None if met else _unseen(table, [data.table, *state.added])
+    nothing_new = unseen is not None and "ok" not in unseen.column("status").to_pylist()
     added = 0
-    if not met and not nothing_new:
+    if unseen is not None and not nothing_new:
         new = _rows(params, unseen, k)
         added = new.num_rows
         grown = TrainingData(

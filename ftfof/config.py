@@ -452,6 +452,9 @@ class Evaluate(Strict):
     front_points: NonNegativeInt = 20  # front members re-simulated for fidelity
     export_rate_hz: Annotated[float, Field(gt=0, le=100_000)] = 500.0  # controller CSV rate
     reference: Baseline = "polynomial"
+    # s: Table I's trajectories are simulated again with this solver step (null: not), to show
+    # whether the answer holds where the acquisition step does not resolve it (docs/simulator.md)
+    check_step: PositiveFloat | None = 1.25e-4
 
 
 class LogColumns(Strict):
@@ -575,6 +578,16 @@ class Params(Strict):
             raise ValueError(
                 f"dataset.hold: {self.dataset.hold:g} s ends inside the landing hold "
                 f"(platform.protocol.landing_hold {hold:g} s); fs3 needs all of it"
+            )
+        return self
+
+    @model_validator(mode="after")
+    def _the_check_step_is_finer(self) -> Params:
+        check, step = self.evaluate.check_step, self.acquire.solver.step
+        if check is not None and check >= step:
+            raise ValueError(
+                f"evaluate.check_step: {check:g} s is not finer than acquire.solver.step "
+                f"({step:g} s); it checks the answer at a smaller step (null: no check)"
             )
         return self
 

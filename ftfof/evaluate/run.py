@@ -21,6 +21,7 @@ from ftfof.errors import DataError, SimulationError
 from ftfof.evaluate.choice import TABLE_ANALOGUE, Candidate, choice_summary, rhs_candidates
 from ftfof.evaluate.export import ControllerTrajectory, ExportRateError, controller_trajectory
 from ftfof.evaluate.fidelity import Fidelity, fidelity, simulated_objectives
+from ftfof.evaluate.step_check import CHECKED, FINE, StepCheck, checked_figures, step_check
 from ftfof.evaluate.table import COLUMNS, PAPER_TABLE_I, PEAKS, TableRow, table_one
 from ftfof.kinematics.legs import build_leg
 from ftfof.optimize.polish import POLISH
@@ -78,14 +79,17 @@ def decision(inputs: Inputs, row: int) -> np.ndarray:
     return inputs.front.loc[row, list(DECISION_NAMES)].to_numpy(dtype=float)
 
 
-def ok_rows(df: pd.DataFrame, reference: str) -> pd.DataFrame:
-    """The simulations that succeeded; a clear error when the optimum or the reference failed."""
-    for source in (OPTIMUM, f"baseline:{reference}"):
+def ok_rows(df: pd.DataFrame, reference: str, prefix: str = "") -> pd.DataFrame:
+    """The simulations whose source starts with ``prefix`` that succeeded, the prefix removed;
+    a clear error when the optimum or the reference failed."""
+    df = df[df.source.str.startswith(prefix)]
+    for source in (f"{prefix}{OPTIMUM}", f"{prefix}baseline:{reference}"):
         row = df[df.source == source]
         if row.empty or row.iloc[0].status != "ok":
             error = row.iloc[0].error if not row.empty else "missing"
             raise SimulationError(source, f"re-simulation failed: {error}")
-    return df[df.status == "ok"]
+    ok = df[df.status == "ok"]
+    return ok.assign(source=ok.source.str.removeprefix(prefix)) if prefix else ok
 
 
 def compared(df: pd.DataFrame, reference: str) -> dict[str, pd.Series]:
@@ -110,6 +114,26 @@ def table_rows(df: pd.DataFrame, reference: str, T3: float) -> list[TableRow]:
     """The Table I analogue, with the foot's pull and film figures, against ``reference``."""
     peaks = {name: figures_of(row, T3) for name, row in compared(df, reference).items()}
     return table_one(peaks, reference, COLUMNS)
+
+
+def checked_at_both_steps(
+    params: Params, simulations: pd.DataFrame, table: pd.DataFrame, T3: float
+) -> StepCheck | None:
+    """Table I's trajectories at the acquisition step (``table``) and at ``evaluate.check_step``
+    (the ``FINE`` runs in ``simulations``); None without a check step."""
+    cfg = params.evaluate
+    if cfg.check_step is None:
+        return None
+    fine = ok_rows(simulations, cfg.reference, FINE)
+
+    def figures(df: pd.DataFrame) -> dict[str, dict]:
+        return {
+            n: checked_figures(channels(r), r, T3) for n, r in compared(df, cfg.reference).items()
+        }
+
+    return step_check(
+        figures(table), figures(fine), cfg.reference, params.acquire.solver.step, cfg.check_step
+    )
 
 
 def front_members(df: pd.DataFrame, T3: float, rules: FootRules, film: FilmLimit) -> dict:
@@ -356,6 +380,8 @@ def context(
             inputs.optimum["rhs"], candidates, inputs.objectives[0], summary["choice"]
         ),
         "paper_columns": [{"key": c, "label": label} for c, label, _ in PEAKS],
+        "step_check": summary["step_check"],
+        "step_columns": [{"key": c, "label": label, "unit": unit} for c, label, unit in CHECKED],
         "table": [
             {"trajectory": r.trajectory, "values": r.values, "change": r.change} for r in rows
         ],
@@ -412,15 +438,18 @@ def evaluate(
 ) -> Evaluation:
     """Everything the report shows, from the re-simulations of the optimum, front and baselines."""
     cfg = params.evaluate
-    table = ok_rows(simulations, cfg.reference)
+    at_step = simulations[~simulations.source.str.startswith(FINE)]
+    table = ok_rows(at_step, cfg.reference)
     T3 = ctx.policy.timing.T3
     rows = table_rows(table, cfg.reference, T3)
+    steps = checked_at_both_steps(params, simulations, table, T3)
     front = judged_front(params, ctx, table)
     fid, predicted, simulated = fidelity_of(inputs, table, ctx, surrogate)
     controller = export(ctx, inputs, cfg.export_rate_hz)
     n_fidelity = len(predicted) - (0 if from_front(inputs) else 1)
     candidates = rhs_candidates(inputs.optimum, inputs.objectives)
     summary = metrics(params, inputs, rows, fid, controller, n_fidelity, front, candidates)
+    summary["step_check"] = None if steps is None else steps.as_dict(OPTIMUM)
     figures = simulation_figures(
         table, predicted, simulated, inputs.objectives, cfg.reference, rows, candidates
     )

@@ -5,8 +5,10 @@ from __future__ import annotations
 
 import json
 import time
-from dataclasses import dataclass
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pyarrow.parquet as pq
@@ -25,6 +27,7 @@ from ftfof.evaluate.run import (
     evaluate,
     front_sample,
 )
+from ftfof.evaluate.step_check import FINE
 from ftfof.pipeline import tracking
 from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench
 from ftfof.pipeline.console import console
@@ -88,8 +91,29 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
     return result
 
 
-def read_inputs(directory: Path, robot: str) -> Inputs:
-    """The optimum and its front, checked to be of ``robot``; any problem is one DataError."""
+# What a stage reads from an optimum.json (dotted: inside a section). A file from an older
+# ftfof that lacks one is refused by name, not with a KeyError deep in the stage.
+POLISH_READS = ("robot", "front_row", "models_digest", "simulator_check")
+EVALUATE_READS = (*POLISH_READS, "origin", "decision", "rhs.rows", "rhs.steps")
+
+
+def missing_fields(record: dict[str, Any], fields: Sequence[str]) -> list[str]:
+    """Those of ``fields`` that ``record`` lacks."""
+
+    def present(path: str) -> bool:
+        node: Any = record
+        for key in path.split("."):
+            if not isinstance(node, dict) or key not in node:
+                return False
+            node = node[key]
+        return True
+
+    return [f for f in fields if not present(f)]
+
+
+def read_inputs(directory: Path, robot: str, fields: Sequence[str] = EVALUATE_READS) -> Inputs:
+    """The optimum and its front, checked to be of ``robot`` and to hold ``fields``; any problem
+    is one DataError."""
     path = directory / "optimum.json"
     if not path.exists() or not (directory / "front.parquet").exists():
         raise DataError(str(directory), "no optimum (run `ftfof optimize` first)")
@@ -99,6 +123,12 @@ def read_inputs(directory: Path, robot: str) -> Inputs:
         meta = json.loads(front.schema.metadata[b"ftfof"])
     except (ValueError, KeyError, OSError) as err:
         raise DataError(str(directory), f"unreadable optimize output ({err})") from None
+    missing = missing_fields(optimum, fields)
+    if missing:
+        raise DataError(
+            str(path),
+            f"lacks {', '.join(missing)}: written by an older ftfof (re-run `ftfof optimize`)",
+        )
     if optimum.get("robot") != robot or meta.get("robot") != robot:
         raise DataError(
             str(directory),
@@ -139,7 +169,8 @@ def _picture(path: Path) -> str:
 def _job(
     params: Params, ctx: RobotContext, out: Path, inputs: Inputs, front_rows: list[int]
 ) -> Acquisition:
-    """The optimum, the sampled front rows and the baselines, resumable under ``out``."""
+    """The optimum, the sampled front rows and the baselines, and Table I's trajectories again at
+    ``evaluate.check_step`` (sources prefixed ``FINE``), resumable under ``out``."""
     on = bench(params, ctx)
     specs, controls = front_specs(on, inputs, front_rows)
     specs += baseline_specs(on, baseline_trajectories(params, ctx))
@@ -148,9 +179,22 @@ def _job(
         spec = on.bezier(PAPER_OPTIMUM, 0, X)
         specs.append(spec)
         controls[spec.key] = X
+    if params.evaluate.check_step is not None:
+        for spec in [s for s in specs if s.source != "front"]:
+            fine = at_step(spec, params.evaluate.check_step)
+            specs.append(fine)
+            if spec.key in controls:
+                controls[fine.key] = controls[spec.key]
     return Acquisition.start(
         params, ctx, out, specs, controls, {"optimum": inputs.digest, "front_rows": front_rows}
     )
+
+
+def at_step(spec: SampleSpec, step: float) -> SampleSpec:
+    """``spec`` simulated with the solver's small step set to ``step``, its source and key
+    prefixed ``FINE`` (the same sensor-noise seed)."""
+    solver = spec.solver.model_copy(update={"step": step})
+    return replace(spec, key=FINE + spec.key, source=FINE + spec.source, solver=solver)
 
 
 def front_specs(

@@ -27,7 +27,7 @@ from ftfof.optimize.select import Outcome, SimulatorCheck, Verdict, fine_policy,
 from ftfof.pipeline import tracking
 from ftfof.pipeline.console import console
 from ftfof.pipeline.digests import bytes_sha256, models_digest, optimum_digest
-from ftfof.pipeline.evaluate import check_models, read_inputs
+from ftfof.pipeline.evaluate import POLISH_READS, check_models, read_inputs
 from ftfof.pipeline.io import atomic_dir, write_json
 from ftfof.pipeline.jobs import close_resumable, open_resumable
 from ftfof.robot import RobotContext, robot_context
@@ -61,7 +61,7 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> dict[str, A
             update={"acquire": params.acquire.model_copy(update={"workers": workers})}
         )
     ctx = robot_context(params)
-    inputs = read_inputs(paths.optimize, ctx.name)
+    inputs = read_inputs(paths.optimize, ctx.name, POLISH_READS)
     check_models(inputs, paths.optimize, paths.models)
     identity = {
         "params": params.model_dump(

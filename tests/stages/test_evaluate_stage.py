@@ -78,6 +78,22 @@ def test_metrics_table_and_controller_export(evaluated):
     assert metrics["export"]["rows"] == csv.shape[0]
 
 
+def test_table_one_is_simulated_again_at_the_check_step(evaluated):
+    work, *_ = evaluated
+    metrics = json.loads((work / "metrics.json").read_text())
+    check = metrics["step_check"]
+    assert check["step"] == 5e-4 and check["check_step"] == 1.25e-4
+    assert set(check["table"]) == set(ROWS)
+    optimum = check["table"]["optimum"]
+    # the acquisition step's figures are Table I's own
+    assert optimum["peak_pull"][0] == pytest.approx(metrics["table"]["optimum"]["peak_pull"])
+    assert optimum["jitter"][0] == pytest.approx(metrics["table"]["optimum"]["jitter"])
+    for name, shift in check["shift"].items():
+        before, after = optimum[f"{name}_change"]
+        assert shift == pytest.approx(after - before, abs=0.02)
+    assert "Does it hold at a finer solver step?" in (work / "report.html").read_text()
+
+
 def test_mlflow_run_links_the_run_that_passed_its_optimum_on(evaluated):
     _, uri, _, _ = evaluated
     import mlflow
@@ -124,3 +140,17 @@ def test_missing_figure_and_other_models_are_refused_before_simulating(evaluated
     result = runner.invoke(app, args, env=env)
     assert result.exit_code != 0 and "other models" in result.output
     assert not (tmp_path / "sims").exists()  # refused before any simulation
+
+
+def test_an_optimum_from_an_older_version_is_refused_by_its_missing_fields(evaluated, tmp_path):
+    _, uri, _, evaluate = evaluated
+    old = tmp_path / "optimize"
+    shutil.copytree(evaluate[evaluate.index("--optimize") + 1], old)
+    optimum = json.loads((old / "optimum.json").read_text())
+    del optimum["simulator_check"], optimum["rhs"]["rows"]  # as a version before the check wrote
+    (old / "optimum.json").write_text(json.dumps(optimum))
+    args = [*evaluate, "--optimize", str(old), "--out", str(tmp_path / "sims")]
+    result = runner.invoke(app, args, env={"MLFLOW_TRACKING_URI": uri})
+    assert result.exit_code != 0
+    assert "lacks simulator_check, rhs.rows" in result.output and "ftfof optimize" in result.output
+    assert not (tmp_path / "sims").exists()

@@ -9,6 +9,7 @@ import pytest
 from typer.testing import CliRunner
 
 from ftfof.config import Params
+from ftfof.pipeline.evaluate import EVALUATE_READS, missing_fields
 from ftfof.robot import robot_context
 from ftfof.sim.film import film_limit
 from ftfof.trajectory.bezier import DECISION_NAMES
@@ -66,6 +67,7 @@ def test_front_and_optimum_are_written(optimized):
     for name in DECISION_NAMES:
         assert optimum["decision"][name] == pytest.approx(chosen[name])
     assert len(optimum["control_points"]) == 16
+    assert missing_fields(optimum, EVALUATE_READS) == []  # all that evaluate reads
     assert max(optimum["recheck"]["violation"].values()) <= 0
     # the simulator had the last word: the chosen row is one it passed, with its simulated
     # objectives; every refusal says why

@@ -80,6 +80,12 @@ def test_a_dataset_base_that_ends_inside_the_landing_hold_is_named(tmp_path, par
     assert "dataset.hold: 0.1 s ends inside the landing hold" in msg and "fs3" in msg
 
 
+def test_a_check_step_not_finer_than_the_acquisition_step_is_named(tmp_path, params_dict):
+    params_dict["evaluate"]["check_step"] = params_dict["acquire"]["solver"]["step"]
+    msg = _error(tmp_path, params_dict)
+    assert "evaluate.check_step: 0.0005 s is not finer than acquire.solver.step" in msg
+
+
 def test_unordered_timing_is_named(tmp_path, params_dict):
     params_dict["robots"]["mst_q"]["timing"] = {"T1": 0.5, "T2": 0.4, "T3": 1.0}
     assert "robots.mst_q.timing: must satisfy T1 < T2 < T3" in _error(tmp_path, params_dict)

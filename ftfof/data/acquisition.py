@@ -54,7 +54,12 @@ UNITS = {
 ACQUISITION = pa.schema(
     [
         field("key", pa.string(), "", "source:sample_id, unique"),
-        field("source", pa.string(), "", "sampled | baseline:<name> | optimum | front | imported"),
+        field(
+            "source",
+            pa.string(),
+            "",
+            "sampled | baseline:<name> | optimum | front | imported | fine:<source>",
+        ),
         field("sample_id", pa.int64(), "", "row of data/trajectories.parquet for sampled"),
         field("robot", pa.string(), "", "robot preset"),
         field("surface", pa.string(), "", "surface preset (or the log's label)"),

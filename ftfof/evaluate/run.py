@@ -79,17 +79,22 @@ def decision(inputs: Inputs, row: int) -> np.ndarray:
     return inputs.front.loc[row, list(DECISION_NAMES)].to_numpy(dtype=float)
 
 
-def ok_rows(df: pd.DataFrame, reference: str, prefix: str = "") -> pd.DataFrame:
-    """The simulations whose source starts with ``prefix`` that succeeded, the prefix removed;
-    a clear error when the optimum or the reference failed."""
-    df = df[df.source.str.startswith(prefix)]
-    for source in (f"{prefix}{OPTIMUM}", f"{prefix}baseline:{reference}"):
+def ok_rows(df: pd.DataFrame, reference: str) -> pd.DataFrame:
+    """The simulations that succeeded; a clear error when the optimum or the reference failed."""
+    for source in (OPTIMUM, f"baseline:{reference}"):
         row = df[df.source == source]
         if row.empty or row.iloc[0].status != "ok":
             error = row.iloc[0].error if not row.empty else "missing"
             raise SimulationError(source, f"re-simulation failed: {error}")
-    ok = df[df.status == "ok"]
-    return ok.assign(source=ok.source.str.removeprefix(prefix)) if prefix else ok
+    return df[df.status == "ok"]
+
+
+def split_steps(simulations: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """The runs at the acquisition's step, and those at the check step (``FINE`` removed from
+    their sources)."""
+    fine = simulations.source.str.startswith(FINE)
+    check = simulations[fine]
+    return simulations[~fine], check.assign(source=check.source.str.removeprefix(FINE))
 
 
 def compared(df: pd.DataFrame, reference: str) -> dict[str, pd.Series]:
@@ -117,23 +122,23 @@ def table_rows(df: pd.DataFrame, reference: str, T3: float) -> list[TableRow]:
 
 
 def checked_at_both_steps(
-    params: Params, simulations: pd.DataFrame, table: pd.DataFrame, T3: float
+    params: Params, table: pd.DataFrame, fine: pd.DataFrame, T3: float
 ) -> StepCheck | None:
-    """Table I's trajectories at the acquisition step (``table``) and at ``evaluate.check_step``
-    (the ``FINE`` runs in ``simulations``); None without a check step."""
+    """Table I's trajectories at the acquisition's step (``table``, its successful runs) and at
+    ``evaluate.check_step`` (``fine``); a run that failed at the check step is left out and
+    named. None without a check step."""
     cfg = params.evaluate
     if cfg.check_step is None:
         return None
-    fine = ok_rows(simulations, cfg.reference, FINE)
-
-    def figures(df: pd.DataFrame) -> dict[str, dict]:
-        return {
-            n: checked_figures(channels(r), r, T3) for n, r in compared(df, cfg.reference).items()
-        }
-
-    return step_check(
-        figures(table), figures(fine), cfg.reference, params.acquire.solver.step, cfg.check_step
-    )
+    at_step = {
+        name: checked_figures(channels(row), row, T3)
+        for name, row in compared(table, cfg.reference).items()
+    }
+    at_check = {
+        row.source.removeprefix("baseline:"): checked_figures(channels(row), row, T3)
+        for _, row in fine[fine.status == "ok"].iterrows()
+    }
+    return step_check(at_step, at_check, cfg.reference, params.acquire.solver.step, cfg.check_step)
 
 
 def front_members(df: pd.DataFrame, T3: float, rules: FootRules, film: FilmLimit) -> dict:
@@ -382,6 +387,7 @@ def context(
         "paper_columns": [{"key": c, "label": label} for c, label, _ in PEAKS],
         "step_check": summary["step_check"],
         "step_columns": [{"key": c, "label": label, "unit": unit} for c, label, unit in CHECKED],
+        "step_labels": {c: label for c, label, _ in CHECKED},
         "table": [
             {"trajectory": r.trajectory, "values": r.values, "change": r.change} for r in rows
         ],
@@ -438,11 +444,11 @@ def evaluate(
 ) -> Evaluation:
     """Everything the report shows, from the re-simulations of the optimum, front and baselines."""
     cfg = params.evaluate
-    at_step = simulations[~simulations.source.str.startswith(FINE)]
+    at_step, fine = split_steps(simulations)
     table = ok_rows(at_step, cfg.reference)
     T3 = ctx.policy.timing.T3
     rows = table_rows(table, cfg.reference, T3)
-    steps = checked_at_both_steps(params, simulations, table, T3)
+    steps = checked_at_both_steps(params, table, fine, T3)
     front = judged_front(params, ctx, table)
     fid, predicted, simulated = fidelity_of(inputs, table, ctx, surrogate)
     controller = export(ctx, inputs, cfg.export_rate_hz)

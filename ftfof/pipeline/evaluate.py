@@ -68,7 +68,9 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
     todo = job.remaining()
     console.print(
         f"evaluate {ctx.name} on {params.surface}: {len(job.specs)} simulations "
-        f"(optimum, {len(front_rows)} front members, baselines), {len(todo)} to run"
+        f"(optimum, {len(front_rows)} front members, baselines"
+        f"{'; Table I again at the check step' if params.evaluate.check_step else ''}), "
+        f"{len(todo)} to run"
     )
     wall = job.simulate(
         todo, cfg.workers if workers is None else workers, cfg.scheduler, "evaluate"
@@ -181,19 +183,28 @@ def _job(
         controls[spec.key] = X
     if params.evaluate.check_step is not None:
         for spec in [s for s in specs if s.source != "front"]:
-            fine = at_step(spec, params.evaluate.check_step)
+            fine = with_step(spec, params.evaluate.check_step)
             specs.append(fine)
             if spec.key in controls:
                 controls[fine.key] = controls[spec.key]
     return Acquisition.start(
-        params, ctx, out, specs, controls, {"optimum": inputs.digest, "front_rows": front_rows}
+        params,
+        ctx,
+        out,
+        specs,
+        controls,
+        {
+            "optimum": inputs.digest,
+            "front_rows": front_rows,
+            "check_step": params.evaluate.check_step,  # a resumed job keeps runs of one step
+        },
     )
 
 
-def at_step(spec: SampleSpec, step: float) -> SampleSpec:
-    """``spec`` simulated with the solver's small step set to ``step``, its source and key
-    prefixed ``FINE`` (the same sensor-noise seed)."""
-    solver = spec.solver.model_copy(update={"step": step})
+def with_step(spec: SampleSpec, step: float) -> SampleSpec:
+    """``spec`` simulated with every solver step ``step`` (a change of step within a run
+    disturbs the body), its source and key prefixed ``FINE`` (the same sensor-noise seed)."""
+    solver = spec.solver.model_copy(update={"step": step, "free_step": step})
     return replace(spec, key=FINE + spec.key, source=FINE + spec.source, solver=solver)
 
 

@@ -3,8 +3,10 @@
 Protocol (FTFOF §IV.A): settle, press the foot until the sensor reads the pre-pressure a (closed
 loop on the sensor, then frozen), run the trajectory, hold the landing with the same commanded
 press, stop. The solver takes ``solver.step`` while bonds break or the pad lands and
-``solver.free_step`` elsewhere. Any Exudyn error, a non-finite state, or a run stopped before its
-end (time budget) makes the sample ``failed`` with the message; partial channels are kept.
+``solver.free_step`` elsewhere; the defaults are one step throughout, since a change of step
+shakes the simulated body (docs/simulator.md, "Time step"). Any Exudyn error, a non-finite
+state, or a run stopped before its end (time budget) makes the sample ``failed`` with the
+message; partial channels are kept.
 """
 
 from __future__ import annotations
@@ -199,15 +201,20 @@ def _settings(spec: SampleSpec) -> exu.SimulationSettings:
 def simulate(spec: SampleSpec) -> SampleResult:
     """Run one acquisition; never raises for a failing simulation (status = failed).
 
-    A solver failure (about 1 % of random trajectories with the default settings, after the
-    release, when the free film flies on 2 ms steps) is retried once with a tighter tolerance and
-    half the free step; ``retries`` records it. Running out of time budget is not retried.
+    A solver failure (with the mixed 500 µs / 2 ms steps, about 1 % of random trajectories,
+    after the release, when the free film flew on 2 ms steps) is retried once with a tighter
+    tolerance and both steps halved, so a run at one step stays at one step; ``retries``
+    records it. Running out of time budget is not retried.
     """
     first = _simulate_once(spec)
     if first.ok or first.reason is FailureReason.TIME_BUDGET:
         return first
     solver = spec.solver.model_copy(
-        update={"tolerance": spec.solver.tolerance / 3, "free_step": spec.solver.free_step / 2}
+        update={
+            "tolerance": spec.solver.tolerance / 3,
+            "step": spec.solver.step / 2,
+            "free_step": spec.solver.free_step / 2,
+        }
     )
     second = _simulate_once(replace(spec, solver=solver))
     second.scalars["retries"] = 1.0

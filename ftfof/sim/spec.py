@@ -21,7 +21,7 @@ BASELINE_SEGMENTS = 16  # Hermite pieces for the analytic baselines (error < 1e-
 @dataclass(frozen=True)
 class SampleSpec:
     key: str  # unique within an acquisition: "<source>:<sample_id>"
-    source: str  # sampled | baseline:<name> | optimum | front | imported
+    source: str  # sampled | baseline:<name> | optimum | front | imported | fine:<source>
     sample_id: int
     trajectory: PiecewiseQuintic  # foot motion in trajectory time [0, T3]
     landing: tuple[float, float]  # P15 - P0, where the carriage brings the sensor centre

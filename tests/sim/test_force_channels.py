@@ -1,6 +1,7 @@
 """The foot force is the pad-plate interface force, not the sensor's reading of the moving plate."""
 
 import numpy as np
+import pytest
 
 from ftfof.sim.records import force_peaks
 from ftfof.sim.simulate import simulate
@@ -30,7 +31,12 @@ def test_the_moving_plate_is_in_the_sensor_record_but_not_in_the_foot_force(para
     c, s = result.channels, result.scalars
     switched = c["t"][np.argmax(c["switch"] > 0)]
     moving = (c["t"] > switched + 0.02) & (c["t"] < switched + 0.2)  # past the release's ringing
-    assert np.abs(c["Fx"][moving]).max() > 5.0  # the plate's inertia on the stiff sensor
+    # the plate's inertia on the stiff sensor: its mass times the carriage's peak acceleration,
+    # a minimum-jerk move of P15's x in carriage_time (10 / sqrt(3) d / T^2); the mixed solver
+    # steps of before read 38 N here, the sensor ringing at each change of step
+    travel, T = params.selected_robot.landing.x, params.platform.protocol.carriage_time
+    inertia = params.platform.sensor.plate_mass * 10 / np.sqrt(3) * travel / T**2
+    assert np.abs(c["Fx"][moving]).max() == pytest.approx(inertia, rel=0.05)
     assert np.abs(c["Fx_pad"][moving]).max() < 0.1  # the foot is off the plate
     still = c["t"] < 0  # plate at rest under the press: sensor and interface agree
     np.testing.assert_allclose(c["Fz_pad"][still], c["Fz"][still], atol=0.05)

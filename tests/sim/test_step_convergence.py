@@ -1,5 +1,5 @@
-"""The solver's step while the pad detaches: the check step evaluate re-simulates Table I with is
-converged on every figure the objectives read, and the pull already is at the acquisition step."""
+"""The solver's step: at one step throughout, the acquisition's is within 5 % of the check step
+evaluate re-simulates Table I with, on every figure the objectives read."""
 
 from concurrent.futures import ProcessPoolExecutor
 
@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from ftfof.evaluate.step_check import CHECKED, checked_figures
+from ftfof.pipeline.evaluate import with_step
 from ftfof.sim.simulate import simulate
 from ftfof.trajectory.baselines import Polynomial
 from tests.sim.helpers import PUBLISHED, bench
@@ -14,22 +15,19 @@ from tests.sim.helpers import PUBLISHED, bench
 pytestmark = pytest.mark.integration
 
 
-def test_the_check_step_is_within_5_percent_of_half_of_it(params):
-    check = params.evaluate.check_step
-    steps = (params.acquire.solver.step, check, check / 2)
+def test_the_acquisition_step_is_within_5_percent_of_the_check_step(params):
+    solver = params.acquire.solver
+    assert solver.free_step == solver.step  # a change of step within a run shakes the body
+    b = bench(params)
     poly = Polynomial(np.array([0.12, 0.0]), params.baselines.lift_height, 1.0)
-    specs = []
-    for k, h in enumerate(steps):
-        b = bench(params, solver={"step": h})
-        specs += [b.analytic("poly", k, poly), b.bezier("pf", k, PUBLISHED)]
+    acquisition = [b.analytic("poly", 0, poly), b.bezier("pf", 0, PUBLISHED)]
+    check = [with_step(s, params.evaluate.check_step) for s in acquisition]
     with ProcessPoolExecutor(2) as pool:
-        results = list(pool.map(simulate, specs))
+        results = list(pool.map(simulate, acquisition + check))
     assert all(r.ok for r in results), [r.error for r in results]
     T3 = params.selected_robot.timing.T3
     names = [c for c, _, _ in CHECKED]
     figures = np.array(
         [[checked_figures(r.channels, r.scalars, T3)[c] for c in names] for r in results]
-    ).reshape(3, 2, len(names))  # (step, trajectory, figure)
-    np.testing.assert_allclose(figures[1], figures[2], rtol=0.05)
-    pull = names.index("peak_pull")
-    np.testing.assert_allclose(figures[0, :, pull], figures[2, :, pull], rtol=0.05)
+    ).reshape(2, 2, len(names))  # (step, trajectory, figure)
+    np.testing.assert_allclose(figures[0], figures[1], rtol=0.05)

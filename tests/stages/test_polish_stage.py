@@ -14,6 +14,7 @@ from ftfof.pipeline import jobs, simcheck
 from ftfof.pipeline.polish import CONFIRM_ROW, FIRST_ROW, JOURNAL
 from stages.cli import app
 from tests.conftest import polish_args, tree_bytes, write_params
+from tests.stages.conftest import TINY_POLISH
 
 pytestmark = pytest.mark.integration
 
@@ -67,7 +68,7 @@ def test_polished_rows_follow_refines_front_and_the_optimum_passed_the_check(
         and v["simulated"][0] == pytest.approx(report["optimum"]["searched"][names[0]], abs=1e-4)
         for v in search + start
     )
-    assert len(report["history"]) == 2
+    assert len(report["history"]) == TINY_POLISH["generations"]
 
 
 def test_a_killed_run_resumes_from_its_journal(refined_tiny, polished, monkeypatch):

@@ -105,7 +105,12 @@ def compared(df: pd.DataFrame, reference: str) -> dict[str, pd.Series]:
     first = f"baseline:{reference}"
     sources = [first, *(s for s in baselines if s != first)]
     sources += [s for s in df.source if s == PAPER_OPTIMUM] + [OPTIMUM]
-    return {s.removeprefix("baseline:"): df[df.source == s].iloc[0] for s in sources}
+    return {table_name(s): df[df.source == s].iloc[0] for s in sources}
+
+
+def table_name(source: str) -> str:
+    """A simulation's name in Table I: its source without the ``baseline:`` prefix."""
+    return source.removeprefix("baseline:")
 
 
 def figures_of(row: pd.Series, T3: float) -> dict[str, float]:
@@ -135,7 +140,7 @@ def checked_at_both_steps(
         for name, row in compared(table, cfg.reference).items()
     }
     at_check = {
-        row.source.removeprefix("baseline:"): checked_figures(channels(row), row, T3)
+        table_name(row.source): checked_figures(channels(row), row, T3)
         for _, row in fine[fine.status == "ok"].iterrows()
     }
     return step_check(at_step, at_check, cfg.reference, params.acquire.solver.step, cfg.check_step)
@@ -340,7 +345,7 @@ def _choice_figure(
     placed: dict[str, tuple[float, float]] = {}
     if None not in columns:
         table = {r.trajectory: r.values for r in rows}
-        for name in (reference, PAPER_OPTIMUM.removeprefix("baseline:")):
+        for name in (reference, table_name(PAPER_OPTIMUM)):
             if name in table:
                 placed[name] = (table[name][columns[0]], table[name][columns[1]])
     return choice_figure(candidates, axes, placed)

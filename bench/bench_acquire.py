@@ -1,5 +1,7 @@
 """Acquisition speed (goals: <= 0.5 s per 1.5 s sample per core; 2-worker efficiency >= 85 %),
-against the same samples on a 20-element film (the baseline, in this process).
+against the same samples on a 20-element film and with every bond connector kept on (the
+baselines, in this process); the latter also shows how far switching off idle bonds moves the
+Table I figures (Newton converges within its tolerance either way).
 
 Run: python bench/bench_acquire.py [n_samples]
 """
@@ -36,12 +38,16 @@ def main(n: int) -> None:
     X = sample_feasible(ctx.policy, n, seed=seed_for(params.base.seed, "bench")).X
     specs = [bench.bezier("sampled", i, x) for i, x in enumerate(X)]
     simulate(specs[0])  # warm-up: imports, numba cache
-    one_core = []
+    one_core, idle, all_on, one_core_all_on = [], [], [], []
     for spec in specs:
         start = time.perf_counter()
         result = simulate(spec)
         one_core.append(time.perf_counter() - start)
         assert result.ok, result.error
+        idle.append(result.scalars)
+        start = time.perf_counter()
+        all_on.append(simulate(spec, idle_bonds=False).scalars)
+        one_core_all_on.append(time.perf_counter() - start)
     coarse = Bench(
         ctx.robot,
         params.selected_surface,
@@ -70,6 +76,15 @@ def main(n: int) -> None:
     print(f"one core, in process: median {per_sample:.3f} s/sample (max {np.max(one_core):.3f})")
     ratio20 = per_sample / float(np.median(baseline))
     print(f"  vs N = 20 (baseline): {np.median(baseline):.3f} s/sample, {ratio20:.2f}x")
+    ratio_on = per_sample / float(np.median(one_core_all_on))
+    print(
+        f"  vs every bond connector on (baseline): {np.median(one_core_all_on):.3f} s/sample, "
+        f"{ratio_on:.2f}x"
+    )
+    for figure in ("peak_pull", "peak_body_acc", "landing_pre_pressure", "min_bend_radius"):
+        change = [abs(a[figure] / b[figure] - 1.0) for a, b in zip(idle, all_on, strict=True)]
+        moved = sum(c > 0 for c in change)
+        print(f"    {figure}: {moved} of {n} runs moved, largest {100 * max(change):.3f} %")
     print(f"pool, 1 worker:       {rates[1]:.2f} samples/s")
     ratio = rates[2] / rates[1]
     print(f"pool, 2 workers:      {rates[2]:.2f} samples/s, {ratio:.2f}x 1 worker, {ratio / 2:.0%}")

@@ -206,3 +206,17 @@ def test_dragging_the_foot_forward_low_over_the_pad_costs_a_180_degree_peel(para
     assert result.ok, result.error
     bG = params.selected_robot.platform.film.width * params.selected_surface.fracture_energy
     assert result.scalars["peak_pull"] >= bG / 2
+
+
+def test_switching_off_idle_bonds_changes_no_figure(params):
+    """Broken bonds clear of the plate are switched off (about a sixth of a run's time); their
+    force is exactly zero there, so only Newton's path within its tolerance may differ. The
+    polynomial peels and lands; Pf drags its film low over the plate."""
+    b = bench(params)
+    poly = Polynomial(np.array([0.12, 0.0]), params.baselines.lift_height, 1.0)
+    for spec in (b.analytic("poly", 0, poly), b.bezier("pf", 0, PUBLISHED)):
+        idle, all_on = simulate(spec), simulate(spec, idle_bonds=False)
+        assert idle.ok and all_on.ok
+        for figure in ("peak_pull", "peak_body_acc", "landing_pre_pressure", "min_bend_radius"):
+            assert idle.scalars[figure] == pytest.approx(all_on.scalars[figure], rel=1e-3), figure
+        np.testing.assert_allclose(idle.channels["Fz_pad"], all_on.channels["Fz_pad"], atol=0.02)

@@ -428,15 +428,16 @@ class Refine(Strict):
     # the rounds' clean simulated points (their simulated pull / jitter layers, in RHS order)
     # that join each round's simulator check beside the surrogate's candidates (0: none)
     nominate: NonNegativeInt = 8
-    # train.peaks targets whose peak GP gets a second, local GP on the rounds' points, taken
-    # where it knows the trajectory (ftfof/surrogate/peaks.py NearFront)
+    # targets whose peak gets a local GP on the rounds' points, taken where it knows the
+    # trajectory, the broad GP of train.peaks (or, without one, the GRU's maximum) elsewhere
+    # (ftfof/surrogate/peaks.py NearFront)
     near_front_peaks: Annotated[list[PeakTarget], AfterValidator(_distinct)] = ["Fp"]
 
 
 class Polish(Strict):
     """NSGA-II on the simulator, from the candidates the last check passed (optimize/polish.py)."""
 
-    generations: NonNegativeInt = 24  # 0: evaluate gets refine's optimum as it is
+    generations: NonNegativeInt = 16  # 0: evaluate gets refine's optimum as it is
     population: Annotated[int, Field(ge=4)] = 24  # trajectories per generation
     # how many of the robot's objectives, in priority order, the simulator's NSGA-II weighs; the
     # choice among its result is RHS on all of them, as measured
@@ -550,15 +551,6 @@ class Params(Strict):
             name = getattr(self, key)
             if name not in presets:
                 raise ValueError(f"{key}: {name!r} is not a preset (have {', '.join(presets)})")
-        return self
-
-    @model_validator(mode="after")
-    def _near_front_peaks_have_a_peak_model(self) -> Params:
-        if missing := [n for n in self.refine.near_front_peaks if n not in self.train.peaks]:
-            raise ValueError(
-                f"refine.near_front_peaks: {missing} have no peak model (train.peaks is "
-                f"{self.train.peaks})"
-            )
         return self
 
     @model_validator(mode="after")

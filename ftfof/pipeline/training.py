@@ -22,7 +22,13 @@ from ftfof.pipeline.digests import models_digest
 from ftfof.pipeline.registry import model_name, weights_tags
 from ftfof.seeds import seed_for
 from ftfof.stats import rank_rho
-from ftfof.surrogate.peaks import NearFront, PeakPredictor, fit_peak_model, near_front
+from ftfof.surrogate.peaks import (
+    NearFront,
+    PeakModel,
+    PeakPredictor,
+    fit_peak_model,
+    near_front,
+)
 from ftfof.surrogate.store import PEAKS, TARGETS, TrainingData, weights_file
 from ftfof.trajectory.bezier import DECISION_NAMES
 
@@ -54,8 +60,9 @@ def train_all(
     ``warm_start`` maps each loss to the state dict its model fine-tunes from (every loss must be
     there); without it every model starts from its seeded initialisation. ``peaks_from``: peak
     models refitted on ``data`` with their hyperparameters (fine-tuning) instead of fitted anew;
-    of those, the ``near_front_peaks`` targets also get a local GP on the refinement rounds' rows
-    (:class:`ftfof.surrogate.peaks.NearFront`) once they have :data:`MIN_NEAR_FRONT_ROWS`.
+    the ``near_front_peaks`` targets also get a local GP on the refinement rounds' rows
+    (:class:`ftfof.surrogate.peaks.NearFront`) once they have :data:`MIN_NEAR_FRONT_ROWS`,
+    blended with their broad GP or, without one, with the GRU's maximum.
     """
     cfg = params.train
     jobs = [{"kind": k, "seed": seed_for(params.search_seed, "train", 0)} for k in cfg.losses]
@@ -67,12 +74,14 @@ def train_all(
     started = time.perf_counter()
     previous = dict(peaks_from or {})
     if cfg.parallel and cfg.peaks and not previous:
-        # a fit in a process of its own beside the GRUs (one core each: a GRU this size gains
-        # nothing from a second thread, so the fit costs no wall time); a refit is a solve
-        with ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("fork")) as pool:
-            peaks_job = pool.submit(fit_peaks, data, cfg.peaks, previous)
+        # each fit in a process of its own beside the GRUs (one core each: a GRU this size
+        # gains nothing from a second thread): at paper scale the two fits took 38 s one after
+        # the other, the GRU 20 s; a refit is a solve
+        context = multiprocessing.get_context("fork")
+        with ProcessPoolExecutor(len(cfg.peaks), mp_context=context) as pool:
+            fits = [pool.submit(fit_peaks, data, [name], previous) for name in cfg.peaks]
             results = run_jobs(jobs, data, cfg)
-            peaks = peaks_job.result()
+            peaks = {n: m for fit in fits for n, m in fit.result().items()}
     else:
         results = run_jobs(jobs, data, cfg)
         peaks = fit_peaks(data, cfg.peaks, previous, near_front_peaks)
@@ -105,7 +114,9 @@ def fit_peaks(
     """The GP of each named target's peak on the training split's control values (the rows that
     have both); refitted from ``previous`` where it has the target, with a local GP on the
     refinement rounds' rows for the ``near_front_peaks`` (once there are
-    :data:`MIN_NEAR_FRONT_ROWS` of them). A target with fewer than :data:`MIN_PEAK_ROWS` such
+    :data:`MIN_NEAR_FRONT_ROWS` of them); a near-front target that is not named gets the local
+    GP alone, blended with its series model's maximum. A target with fewer than
+    :data:`MIN_PEAK_ROWS` such
     rows (a dataset of imported logs, which have no control values) gets none: its peak stays
     the GRU's series maximum, and the summary says so."""
     from threadpoolctl import threadpool_limits
@@ -125,22 +136,32 @@ def _fit_peaks(
     X = data.decisions("train")
     near = data.from_rounds("train")
     out: dict[str, PeakPredictor] = {}
-    for name in names:
+    for name in dict.fromkeys([*names, *near_front_peaks]):
         y = data.peaks("train", name) if name in data.trained else np.full(len(X), np.nan)
         rows = np.isfinite(y) & np.isfinite(X).all(axis=1)
         if rows.sum() < MIN_PEAK_ROWS:
             continue
-        if name not in previous:
-            out[name] = fit_peak_model(name, X[rows], y[rows])
-            continue
-        before = previous[name]
-        broad = (before.broad if isinstance(before, NearFront) else before).refit(X[rows], y[rows])
+        broad = _broad(name, names, previous, X[rows], y[rows])
         local = rows & near
         if name in near_front_peaks and local.sum() >= MIN_NEAR_FRONT_ROWS:
-            out[name] = near_front(broad, X[local], y[local])
-        else:
+            out[name] = near_front(name, broad, X[local], y[local])
+        elif broad is not None:
             out[name] = broad
     return out
+
+
+def _broad(
+    name: str, names: list[str], previous: Mapping[str, PeakPredictor], X: np.ndarray, y: np.ndarray
+) -> PeakModel | None:
+    """The GP of ``name``'s peak over the whole design: refitted with the hyperparameters it has,
+    fitted anew if it has none, None if it is not one of ``names`` (its series model's maximum
+    stands in for it)."""
+    if name not in names:
+        return None
+    before = previous.get(name)
+    if isinstance(before, NearFront):
+        before = before.broad
+    return fit_peak_model(name, X, y) if before is None else before.refit(X, y)
 
 
 def peak_metrics(model: PeakPredictor, data: TrainingData, use: dict[str, Any]) -> dict[str, Any]:
@@ -162,7 +183,7 @@ def peak_metrics(model: PeakPredictor, data: TrainingData, use: dict[str, Any]) 
         }
 
     return {
-        "gp": errors(model(np.nan_to_num(X))),
+        "gp": errors(model(np.nan_to_num(X), gru)),
         "gru": errors(gru),
         "length_scales": dict(zip(DECISION_NAMES, model.length_scale.tolist(), strict=True)),
     }

@@ -122,7 +122,7 @@ class Surrogate:
         scale = self.normalization.target_scale
         series = {n: y[..., self.targets.index(n)] * scale[self.targets.index(n)] for n in names}
         for n in peaked:
-            series[n] = with_peak(series[n], self.peaks[n](decisions))
+            series[n] = with_peak(series[n], self.peaks[n](decisions, series[n].max(axis=-1)))
         return series
 
 

@@ -86,3 +86,17 @@ def test_refinement_adds_a_local_gp_on_the_rounds_rows_for_the_near_front_peaks(
     few = _from_rounds(data, training.MIN_NEAR_FRONT_ROWS // 2)
     alone = fit_peaks(few, ["body_acc"], first, near_front_peaks=["body_acc"])["body_acc"]
     assert isinstance(alone, PeakModel)  # too few rounds' rows for a local GP yet
+
+
+def test_a_near_front_target_without_a_broad_gp_gets_the_local_gp_alone(data):
+    """train.peaks without body_acc: the rounds' rows still give it a local GP (blended with the
+    GRU's maximum in prediction), and until there are enough of them it gets no model at all."""
+    first = fit_peaks(data, ["Fp"], {})
+    rounds = _from_rounds(data, 40)
+    again = fit_peaks(rounds, ["Fp"], first, near_front_peaks=["Fp", "body_acc"])
+    body = again["body_acc"]
+    assert isinstance(body, NearFront) and body.broad is None
+    assert body.local.train_inputs.shape == (rounds.from_rounds("train").sum(), 12)
+    assert isinstance(again["Fp"], NearFront) and again["Fp"].broad is not None
+    few = _from_rounds(data, training.MIN_NEAR_FRONT_ROWS // 2)
+    assert "body_acc" not in fit_peaks(few, ["Fp"], first, near_front_peaks=["body_acc"])

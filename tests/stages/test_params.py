@@ -96,10 +96,18 @@ def test_a_use_loss_that_is_not_trained_is_named(tmp_path, params_dict):
     assert "train: use 'dilate' must be one of losses ['mse']" in _error(tmp_path, params_dict)
 
 
-def test_a_near_front_peak_without_a_peak_model_is_named(tmp_path, params_dict):
-    params_dict["train"]["peaks"] = ["jitter"]
+def test_a_near_front_target_not_read_by_its_peak_is_named(tmp_path, params_dict):
+    """fs2 reads the pull's mean: a local GP of its peak would change what fs2 reads."""
+    params_dict["refine"]["near_front_peaks"] = ["Fp", "pull"]
     msg = _error(tmp_path, params_dict)
-    assert "refine.near_front_peaks: ['Fp'] have no peak model (train.peaks is ['jitter'])" in msg
+    assert "refine.near_front_peaks.1" in msg and "'body_acc'" in msg, msg
+
+
+def test_a_near_front_peak_needs_no_broad_peak_model(params_dict, tmp_path):
+    params_dict["train"]["peaks"] = ["jitter"]
+    params_dict["refine"]["near_front_peaks"] = ["Fp", "body_acc"]
+    params = load_params(write_params(tmp_path / "params.yaml", params_dict))
+    assert params.refine.near_front_peaks == ["Fp", "body_acc"]
 
 
 def test_polishing_more_objectives_than_the_robot_has_is_named(tmp_path, params_dict):

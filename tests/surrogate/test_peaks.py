@@ -114,7 +114,7 @@ def near():
     spread = rng.uniform(-1.0, 1.0, size=(150, 2))
     broad = fit_peak_model("Fp", spread, _rippled(spread))
     local = rng.uniform(-0.1, 0.1, size=(60, 2))
-    return broad, local, near_front(broad, local, _rippled(local))
+    return broad, local, near_front("Fp", broad, local, _rippled(local))
 
 
 def test_near_front_learns_what_the_broad_gp_smooths_away(near):
@@ -150,7 +150,27 @@ def test_near_front_is_not_confident_far_along_a_value_the_rounds_peaks_ignore()
     spread = rng.uniform(-1.0, 1.0, size=(120, 3))
     broad = fit_peak_model("Fp", spread, 5.0 + spread[:, 0])
     local = rng.uniform(-0.1, 0.1, size=(50, 3))
-    model = near_front(broad, local, 5.0 + local[:, 0] + 0.05 * np.sin(60.0 * local[:, 0]))
+    model = near_front("Fp", broad, local, 5.0 + local[:, 0] + 0.05 * np.sin(60.0 * local[:, 0]))
     assert model.local.length_scale[2] <= LOCAL_MAX_LENGTH_SCALE
     off = np.array([[0.0, 0.0, 20.0 * local[:, 2].std()]])
     assert model.confidence(local).min() > 0.9 and model.confidence(off)[0] < 0.1
+
+
+def test_near_front_without_a_broad_gp_blends_with_the_series_maximum():
+    """fsj's body acceleration has no broad GP: far from the rounds' points the series model's
+    maximum stands, on them the local GP; the model refuses to guess without that maximum."""
+    rng = np.random.default_rng(14)
+    local = rng.uniform(-0.1, 0.1, size=(60, 2))
+    model = near_front("body_acc", None, local, _rippled(local))
+    far = np.array([[0.9, 0.9], [-0.8, 0.7]])
+    series_peak = np.array([3.0, 4.0])
+    np.testing.assert_allclose(model(far, series_peak), series_peak, atol=1e-3)
+    held_out = rng.uniform(-0.08, 0.08, size=(20, 2))
+    gru = np.full(len(held_out), 9.0)  # far off the truth
+    assert np.abs(model(held_out, gru) - _rippled(held_out)).mean() < 0.1
+    assert model.target == "body_acc" and model.length_scale is model.local.length_scale
+    again = peak_model_from_dict(json.loads(json.dumps(model.as_dict())))
+    assert again.broad is None
+    np.testing.assert_array_equal(again(held_out, gru), model(held_out, gru))
+    with pytest.raises(ValueError, match="blends with the series model's maximum"):
+        model(held_out)

@@ -77,9 +77,19 @@ def train_all(
         # each fit in a process of its own beside the GRUs (one core each: a GRU this size
         # gains nothing from a second thread): at paper scale the two fits took 38 s one after
         # the other, the GRU 20 s; a refit is a solve
+        targets = list(dict.fromkeys([*cfg.peaks, *near_front_peaks]))
         context = multiprocessing.get_context("fork")
-        with ProcessPoolExecutor(len(cfg.peaks), mp_context=context) as pool:
-            fits = [pool.submit(fit_peaks, data, [name], previous) for name in cfg.peaks]
+        with ProcessPoolExecutor(len(targets), mp_context=context) as pool:
+            fits = [
+                pool.submit(
+                    fit_peaks,
+                    data,
+                    [n for n in (name,) if n in cfg.peaks],
+                    previous,
+                    [n for n in (name,) if n in near_front_peaks],
+                )
+                for name in targets
+            ]
             results = run_jobs(jobs, data, cfg)
             peaks = {n: m for fit in fits for n, m in fit.result().items()}
     else:

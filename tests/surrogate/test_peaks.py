@@ -12,6 +12,7 @@ from sklearn.gaussian_process.kernels import RBF, ConstantKernel, WhiteKernel
 
 from ftfof.surrogate.peaks import (
     LOCAL_MAX_LENGTH_SCALE,
+    LOG_PEAKS,
     NearFront,
     PeakModel,
     fit_peak_model,
@@ -174,3 +175,32 @@ def test_near_front_without_a_broad_gp_blends_with_the_series_maximum():
     np.testing.assert_array_equal(again(held_out, gru), model(held_out, gru))
     with pytest.raises(ValueError, match="blends with the series model's maximum"):
         model(held_out)
+
+
+def test_a_log_local_gp_cannot_be_searched_below_its_smallest_peak():
+    """The body's peak acceleration spans an order of magnitude near the front, with a steep
+    rise beside its lowest values: a linear GP dipped below zero there and the optimiser went to
+    the dips. A local GP of a LOG_PEAKS target is fitted on log(peak) and floored at the
+    smallest peak it saw, so no search gets below that."""
+    rng = np.random.default_rng(15)
+    X = rng.uniform(-1.0, 1.0, size=(60, 3))
+    peaks = 0.5 + 10.0 / (1.0 + np.exp(-12.0 * X[:, 0]))  # 0.5 .. 10.5, a cliff at x0 = 0
+    assert "body_acc" in LOG_PEAKS
+    model = near_front("body_acc", None, X, peaks)
+    assert model.local.log and model.local.floor == pytest.approx(peaks.min())
+    probes = rng.uniform(-1.0, 1.0, size=(20000, 3))
+    assert model(probes, np.full(len(probes), 5.0)).min() >= peaks.min()
+    linear = fit_peak_model("body_acc", X, peaks, LOCAL_MAX_LENGTH_SCALE)
+    assert not linear.log and linear.floor == 0.0  # a broad GP keeps its zero floor
+    assert linear(probes).min() < peaks.min()  # the dip the floor and the log close
+    again = peak_model_from_dict(json.loads(json.dumps(model.as_dict())))
+    np.testing.assert_array_equal(again.local(probes[:50]), model.local(probes[:50]))
+    assert again.local.log and again.local.floor == model.local.floor
+
+
+def test_a_saved_model_from_before_log_peaks_loads_as_linear(model):
+    old = {k: v for k, v in model.as_dict().items() if k not in ("log", "floor")}
+    again = peak_model_from_dict(old)
+    assert not again.log and again.floor == 0.0
+    X = np.random.default_rng(16).uniform(-2.0, 2.0, size=(7, len(model.input_mean)))
+    np.testing.assert_array_equal(again(X), model(X))

@@ -86,9 +86,12 @@ class PeakModel:
         return self.amplitude * np.exp(-0.5 * np.maximum(d2, 0.0))
 
     def refit(self, decisions: Array, peaks: Array) -> PeakModel:
-        """The same GP (length scales, amplitude, noise, normalisation) on other data."""
+        """The same GP (length scales, amplitude, noise, normalisation, floor) on other data: its
+        rows with a finite (for a log model, positive) peak."""
         X = self._scaled(decisions)
         y = (_fitted(peaks, self.log) - self.y_mean) / self.y_scale
+        keep = np.isfinite(y) & np.isfinite(X).all(axis=1)
+        X, y = X[keep], y[keep]
         K = self._covariance(X, X)
         K[np.diag_indices_from(K)] += self.noise + JITTER
         alpha = cho_solve(cho_factor(K, lower=True), y)
@@ -213,7 +216,8 @@ def near_front(target: str, broad: PeakModel | None, decisions: Array, peaks: Ar
     between the rounds' points is the GP's, not the simulator's."""
     log = target in LOG_PEAKS
     local = fit_peak_model(target, decisions, peaks, LOCAL_MAX_LENGTH_SCALE, log)
-    local = replace(local, floor=float(np.nanmin(peaks)))
+    fitted = np.isfinite(_fitted(peaks, log)) & np.isfinite(decisions).all(axis=1)
+    local = replace(local, floor=float(np.asarray(peaks, dtype=float)[fitted].min()))
     K = local._covariance(local.train_inputs, local.train_inputs)
     K[np.diag_indices_from(K)] += local.noise + JITTER
     precision = cho_solve(cho_factor(K, lower=True), np.eye(len(K)))

@@ -204,3 +204,13 @@ def test_a_saved_model_from_before_log_peaks_loads_as_linear(model):
     assert not again.log and again.floor == 0.0
     X = np.random.default_rng(16).uniform(-2.0, 2.0, size=(7, len(model.input_mean)))
     np.testing.assert_array_equal(again(X), model(X))
+
+
+def test_a_log_model_refits_on_its_positive_peaks_only():
+    rng = np.random.default_rng(17)
+    X = rng.uniform(-1.0, 1.0, size=(40, 2))
+    peaks = np.exp(X[:, 0])
+    model = fit_peak_model("body_acc", X, peaks, LOCAL_MAX_LENGTH_SCALE, log=True)
+    again = model.refit(np.vstack([X, [[0.5, 0.5]]]), np.append(peaks, 0.0))  # a zero: no log
+    assert again.train_inputs.shape == (40, 2)
+    np.testing.assert_allclose(again(X), model(X))

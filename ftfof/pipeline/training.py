@@ -80,16 +80,10 @@ def train_all(
         targets = list(dict.fromkeys([*cfg.peaks, *near_front_peaks]))
         context = multiprocessing.get_context("fork")
         with ProcessPoolExecutor(len(targets), mp_context=context) as pool:
-            fits = [
-                pool.submit(
-                    fit_peaks,
-                    data,
-                    [n for n in (name,) if n in cfg.peaks],
-                    previous,
-                    [n for n in (name,) if n in near_front_peaks],
-                )
-                for name in targets
-            ]
+            fits = []
+            for name in targets:
+                named, near = _only(name, cfg.peaks, near_front_peaks)
+                fits.append(pool.submit(fit_peaks, data, named, previous, near))
             results = run_jobs(jobs, data, cfg)
             peaks = {n: m for fit in fits for n, m in fit.result().items()}
     else:
@@ -126,9 +120,8 @@ def fit_peaks(
     refinement rounds' rows for the ``near_front_peaks`` (once there are
     :data:`MIN_NEAR_FRONT_ROWS` of them); a near-front target that is not named gets the local
     GP alone, blended with its series model's maximum. A target with fewer than
-    :data:`MIN_PEAK_ROWS` such
-    rows (a dataset of imported logs, which have no control values) gets none: its peak stays
-    the GRU's series maximum, and the summary says so."""
+    :data:`MIN_PEAK_ROWS` such rows (a dataset of imported logs, which have no control values)
+    gets none: its peak stays the GRU's series maximum, and the summary says so."""
     from threadpoolctl import threadpool_limits
 
     # one BLAS thread: a multi-threaded Cholesky sums in another order on another core count,
@@ -158,6 +151,13 @@ def _fit_peaks(
         elif broad is not None:
             out[name] = broad
     return out
+
+
+def _only(
+    name: str, names: Sequence[str], near_front_peaks: Sequence[str]
+) -> tuple[list[str], list[str]]:
+    """:func:`fit_peaks`'s ``names`` and ``near_front_peaks`` for ``name`` alone."""
+    return [name] if name in names else [], [name] if name in near_front_peaks else []
 
 
 def _broad(

@@ -7,6 +7,8 @@ from dataclasses import asdict, dataclass
 import torch
 from torch import nn
 
+from ftfof.surrogate import layers
+
 
 @dataclass(frozen=True)
 class ModelConfig:
@@ -26,20 +28,20 @@ class ForceGRU(nn.Module):
     Causal (unidirectional) because a force at time t cannot depend on where the foot goes later.
     One recurrent state feeds all the targets (they are all consequences of the same peel), so K
     targets cost one GRU pass. Input (B, N, 4) normalised trajectory features; output (B, N, K),
-    each target divided by its scale.
+    each target divided by its scale. Its layers are torch's GRU and Linear on compiled kernels of
+    our own (:mod:`ftfof.surrogate.layers`), so training gives the same weights on any x86-64 CPU.
     """
 
     def __init__(self, config: ModelConfig):
         super().__init__()
         self.config = config
-        self.gru = nn.GRU(
+        self.gru = layers.GRU(
             config.inputs,
             config.hidden,
             num_layers=config.layers,
-            batch_first=True,
             dropout=config.dropout if config.layers > 1 else 0.0,
         )
-        self.head = nn.Linear(config.hidden, config.outputs)
+        self.head = layers.Linear(config.hidden, config.outputs)
 
     def forward(self, x: torch.Tensor) -> torch.Tensor:
         h, _ = self.gru(x)

@@ -12,8 +12,10 @@ The criterion is a sum over the targets, each on the samples that supply it (NaN
   they are the same foot's forces on one time line, and one alignment costs a third of three. A
   sample that lacks one of them is left out of this term.
 
-Deterministic on CPU for a seed (seeded init and shuffling, deterministic algorithms, a fixed
-thread count); uses a GPU when one is present (the DILATE kernel itself runs on the CPU).
+Deterministic for a seed (seeded init and shuffling, deterministic algorithms) and the same bits
+on any x86-64 CPU and thread count: the GRU and its head run on compiled kernels of our own
+(:mod:`ftfof.surrogate.layers`), never MKL. Always on the CPU: a hidden-32 GRU gains nothing from
+a GPU, and a GPU's kernels would train other weights.
 """
 
 from __future__ import annotations
@@ -49,10 +51,6 @@ class Trained:
     model: ForceGRU
     history: History
     seconds: float
-
-
-def device() -> torch.device:
-    return torch.device("cuda" if torch.cuda.is_available() else "cpu")
 
 
 def masked_mse(pred: torch.Tensor, target: torch.Tensor) -> torch.Tensor:
@@ -111,7 +109,6 @@ def train_model(
     started = time.perf_counter()
     torch.manual_seed(seed)
     torch.use_deterministic_algorithms(True)
-    dev = device()
     model = ForceGRU(
         ModelConfig(
             hidden=settings.hidden,
@@ -122,11 +119,10 @@ def train_model(
     )
     if warm_start is not None:
         model.load_state_dict({k: torch.as_tensor(np.asarray(v)) for k, v in warm_start.items()})
-    model = model.to(dev)
     opt = torch.optim.Adam(model.parameters(), lr=settings.lr, weight_decay=settings.weight_decay)
     crit = loss_fn(kind, settings, targets)
-    xt, yt = torch.tensor(x_train, device=dev), torch.tensor(y_train, device=dev)
-    xv, yv = torch.tensor(x_val, device=dev), torch.tensor(y_val, device=dev)
+    xt, yt = torch.tensor(x_train), torch.tensor(y_train)
+    xv, yv = torch.tensor(x_val), torch.tensor(y_val)
     gen = torch.Generator().manual_seed(seed)
     history = History()
     best, best_state, waited = np.inf, copy.deepcopy(model.state_dict()), 0
@@ -137,7 +133,7 @@ def train_model(
         history.best_epoch = -1
     for epoch in range(settings.epochs):
         model.train()
-        order = torch.randperm(len(xt), generator=gen).to(dev)
+        order = torch.randperm(len(xt), generator=gen)
         total, count = 0.0, 0
         for start in range(0, len(order), settings.batch):
             idx = order[start : start + settings.batch]
@@ -167,7 +163,7 @@ def train_model(
                 break
     model.load_state_dict(best_state)
     model.eval()
-    return Trained(model.cpu(), history, time.perf_counter() - started)
+    return Trained(model, history, time.perf_counter() - started)
 
 
 def predict(model: ForceGRU, x: Array) -> Array:

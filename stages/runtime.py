@@ -30,17 +30,21 @@ def tune_allocator(mmap_threshold: int = 64 << 20, trim_threshold: int = 256 << 
     return ok and mallopt(_M_TRIM_THRESHOLD, trim_threshold) == 1
 
 
-# Numerical code paths pinned for every pipeline process, so that a model trained on one x86-64
-# machine is bit-identical to one trained on another. MKL otherwise picks its kernels by the host's
-# instruction set (AVX-512 and AVX2 give different GRU weights), and numba compiles for the host
-# CPU (FMA contraction and vector width follow it). NumPy dispatches its ufuncs by the host too:
-# its AVX-512 paths (numpy 2.4's X86_V4, AVX512_ICL, AVX512_SPR groups) change the last bits of
-# the bond law's arithmetic, and a peel's bond-by-bond snaps carry those bits into different
-# forces (the whole acquisition differed between an AVX-512 and an AVX2 machine); OpenBLAS picks
-# its kernels by the host as well. AVX2 with FMA (Haswell, x86-64-v3) is the level every x86-64
-# machine in use has.
+# Numerical code paths pinned for every pipeline process, so that the same commit gives the same
+# artefacts on any x86-64 machine, Intel or AMD. Each library below otherwise picks its kernels
+# by the host: numba compiles for the host CPU (FMA contraction and vector width follow it);
+# NumPy dispatches its ufuncs by the host (its AVX-512 groups X86_V4, AVX512_ICL, AVX512_SPR
+# change the last bits of the bond law's arithmetic, and a peel's bond-by-bond snaps carry them
+# into different forces); OpenBLAS picks its kernels by the host; torch's ATen kernels (the
+# loss, softplus, Adam) by the instruction set (AVX-512 sums in another order than AVX2). AVX2
+# with FMA (Haswell, x86-64-v3) is the level every x86-64 machine in use has. MKL is kept off
+# the numerical path altogether (the surrogate's layers run on our own kernels): it picks its
+# kernels by the CPU's vendor too, and its AVX2 branch trained other GRU weights on an AMD than
+# on an Intel machine; COMPATIBLE, its branch documented as the same on both, covers any call
+# left in torch.
 PINNED_X86_64 = {
-    "MKL_CBWR": "AVX2",
+    "MKL_CBWR": "COMPATIBLE",
+    "ATEN_CPU_CAPABILITY": "avx2",
     "NUMBA_CPU_NAME": "haswell",
     "NUMBA_CPU_FEATURES": "",
     "NPY_DISABLE_CPU_FEATURES": "X86_V4 AVX512_ICL AVX512_SPR",

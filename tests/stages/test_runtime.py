@@ -15,7 +15,8 @@ def test_pinning_overrides_the_callers_choice_on_x86_64(monkeypatch):
     env = {"MKL_CBWR": "AVX512", "NUMBA_CPU_NAME": "skylake-avx512"}
     assert runtime.pin_numerics(env) == runtime.PINNED_X86_64
     assert env == {
-        "MKL_CBWR": "AVX2",
+        "MKL_CBWR": "COMPATIBLE",
+        "ATEN_CPU_CAPABILITY": "avx2",
         "NUMBA_CPU_NAME": "haswell",
         "NUMBA_CPU_FEATURES": "",
         "NPY_DISABLE_CPU_FEATURES": "X86_V4 AVX512_ICL AVX512_SPR",
@@ -42,14 +43,18 @@ def test_other_architectures_keep_their_native_paths(monkeypatch):
 @pytest.mark.integration  # starts a stage process
 def test_a_stage_process_compiles_for_the_pinned_target_whatever_the_host_says():
     env = {**os.environ, "MKL_CBWR": "AVX512", "NUMBA_CPU_NAME": "skylake-avx512"}
+    env["ATEN_CPU_CAPABILITY"] = "avx512"
     code = (
         "import stages.cli, os; from numba.core import config; "
         "from numpy._core._multiarray_umath import __cpu_features__ as numpy_uses; "
+        "import torch; "
         "print(os.environ['MKL_CBWR'], config.CPU_NAME, repr(config.CPU_FEATURES), "
-        "any(numpy_uses.get(f, False) for f in ('X86_V4', 'AVX512_ICL', 'AVX512_SPR')))"
+        "any(numpy_uses.get(f, False) for f in ('X86_V4', 'AVX512_ICL', 'AVX512_SPR')), "
+        "torch.backends.cpu.get_cpu_capability())"
     )
     out = subprocess.run(
         [sys.executable, "-c", code], cwd=ROOT, env=env, capture_output=True, text=True, check=True
     )
     if runtime.platform.machine().lower() in {"x86_64", "amd64"}:
-        assert out.stdout.split() == ["AVX2", "haswell", "''", "False"]  # numpy: no AVX-512
+        # numpy: no AVX-512; torch's ATen: its AVX2 kernels
+        assert out.stdout.split() == ["COMPATIBLE", "haswell", "''", "False", "AVX2"]

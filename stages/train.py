@@ -27,6 +27,7 @@ def command(
 ) -> None:
     """Train trajectory -> force GRUs with DILATE (and MSE for comparison); log to MLflow."""
     from ftfof.pipeline.io import save_figure, write_json
+    from ftfof.pipeline.machine import describe
     from ftfof.pipeline.params_file import load_params
     from ftfof.pipeline.training import track, train_all
     from ftfof.report.figures import loss_figure, prediction_figure
@@ -39,7 +40,7 @@ def command(
     loss_fig = loss_figure(run.results)
     pred_fig = prediction_figure(run.results, data, seed_for(params.base.seed, "plots"))
     write_models(out, run.results, data, params.train, run.peaks)
-    write_json(metrics, run.summary)
+    write_json(metrics, {**run.summary, "machine": describe()})  # whose weights these are
     save_figure(loss_fig, loss_plot)
     save_figure(pred_fig, pred_plot)
     track(params, run, data, (loss_plot, pred_plot), out, dataset_dir)

@@ -9,6 +9,8 @@ import subprocess
 import warnings
 from pathlib import Path
 
+from ftfof.pipeline import machine
+
 EXPERIMENT_PREFIX = "ftfof"
 MODELS_DIGEST_TAG = "ftfof.models_digest"  # on the train run that wrote data/models
 OPTIMUM_DIGEST_TAG = "ftfof.optimum_digest"  # on the optimize run that wrote data/optimize
@@ -65,7 +67,7 @@ def experiment_name(robot: str) -> str:
 
 
 def tags(stage: str) -> dict[str, str]:
-    """Provenance tags: git commit, DVC stage and experiment (set by `dvc exp run`).
+    """Provenance tags: git commit, DVC stage, experiment (set by `dvc exp run`) and the CPU.
 
     ``mlflow.source.name`` is the stage: MLflow would otherwise show ``__main__`` (``python -m``).
     """
@@ -73,6 +75,7 @@ def tags(stage: str) -> dict[str, str]:
         "dvc.stage": os.environ.get("DVC_STAGE", stage),
         "git.commit": git_commit(),
         "mlflow.source.name": stage,
+        "machine.cpu": machine.label(machine.describe()),
     }
     for env, key in (("DVC_EXP_NAME", "dvc.exp_name"), ("DVC_EXP_BASELINE_REV", "dvc.baseline")):
         if os.environ.get(env):

@@ -6,6 +6,7 @@ import pytest
 import torch
 
 from ftfof.data.targets import TARGETS
+from ftfof.pipeline import machine
 from ftfof.surrogate.store import load_surrogate
 
 pytestmark = pytest.mark.integration
@@ -41,6 +42,8 @@ def test_metrics_and_figures(trained):
             } <= set(m["targets"][target])
     for png in ("models_loss.png", "models_pred.png"):
         assert (tmp / png).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    # whose weights these are: the CPU and the libraries that decide the bits
+    assert metrics["machine"] == machine.describe()
 
 
 def test_mlflow_holds_the_parent_and_child_runs_with_params_metrics_models_and_tags(trained):
@@ -68,6 +71,7 @@ def test_mlflow_holds_the_parent_and_child_runs_with_params_metrics_models_and_t
         assert key in p.data.params, key
     assert p.data.tags["dvc.stage"] == "train" and p.data.tags["dvc.exp_name"] == "test-exp"
     assert len(p.data.tags["git.commit"]) >= 7
+    assert p.data.tags["machine.cpu"] == machine.label(machine.describe())
     figures = {a.path for a in client.list_artifacts(p.info.run_id, "figures")}
     assert figures == {"figures/models_loss.png", "figures/models_pred.png"}
     for child in children:

@@ -4,14 +4,18 @@ Why not torch's own: its CPU GRU and Linear multiply through MKL, which picks it
 CPU's vendor as well as its instruction set, so the same dataset trained other weights on an AMD
 and an Intel machine (MKL documents bit-identical results across Intel processors only). These
 loops are compiled by numba for one pinned target (``stages.runtime``) and sum in one fixed
-order, so a layer gives the same bits on any x86-64 CPU and any thread count:
+order, so a layer gives the same bits on any x86-64 CPU:
 
-- every output element is computed by one loop iteration (threads split rows, never a sum);
+- every output element is one loop's sum, in the order of its terms;
 - the weight gradients sum over (batch, step) rows in row order;
 - the gates use the population kernel's rational tanh (:mod:`ftfof.surrogate.gru_kernel`), so a
   trained model is evaluated during the search by the same function it was fitted with.
 
 Layouts follow torch: gates (r, z, n) side by side in 3H columns, W_ih (3H, I), W_hh (3H, H).
+Single-threaded on purpose: `train` runs its models side by side in forked processes (one
+thread each), and numba's OpenMP pool, once started in a parent, aborts a forked child that
+starts it again.
+
 The recurrence (PyTorch's GRU):
 
     r = sigmoid(W_ir x + b_ir + W_hr h + b_hr),  z = sigmoid(W_iz x + b_iz + W_hz h + b_hz),
@@ -26,7 +30,7 @@ import numpy as np
 from ftfof.surrogate.gru_kernel import _HALF, _KERNEL, _ONE, tanh_rational
 
 
-@numba.njit(parallel=True, **_KERNEL)
+@numba.njit(**_KERNEL)
 def gru_forward(x, w_ih_t, b_ih, w_hh_t, b_hh, h_out, gates):  # pragma: no cover - compiled
     """One layer from h0 = 0 over x (B, T, I); weights transposed (I, 3H) and (H, 3H).
 
@@ -36,7 +40,7 @@ def gru_forward(x, w_ih_t, b_ih, w_hh_t, b_hh, h_out, gates):  # pragma: no cove
     n_seq, steps, inputs = x.shape
     width = b_hh.shape[0]
     hid = width // 3
-    for b in numba.prange(n_seq):
+    for b in range(n_seq):
         h = np.zeros(hid, np.float32)
         gi = np.empty(width, np.float32)
         gh = np.empty(width, np.float32)
@@ -64,7 +68,7 @@ def gru_forward(x, w_ih_t, b_ih, w_hh_t, b_hh, h_out, gates):  # pragma: no cove
                 gates[b, t, 3, j] = hn
 
 
-@numba.njit(parallel=True, **_KERNEL)
+@numba.njit(**_KERNEL)
 def gru_backward(dh_out, h_out, gates, w_ih, w_hh, d_in, d_rec, dx, want_dx):  # pragma: no cover
     """Backpropagation through time of :func:`gru_forward` for every sequence at once.
 
@@ -76,7 +80,7 @@ def gru_backward(dh_out, h_out, gates, w_ih, w_hh, d_in, d_rec, dx, want_dx):  #
     n_seq, steps, hid = dh_out.shape
     width = 3 * hid
     inputs = w_ih.shape[1]
-    for b in numba.prange(n_seq):
+    for b in range(n_seq):
         dh = np.zeros(hid, np.float32)
         carry = np.empty(hid, np.float32)
         for t in range(steps - 1, -1, -1):
@@ -110,11 +114,11 @@ def gru_backward(dh_out, h_out, gates, w_ih, w_hh, d_in, d_rec, dx, want_dx):  #
                         dx[b, t, k] += gi * w_ih[i, k]
 
 
-@numba.njit(parallel=True, **_KERNEL)
+@numba.njit(**_KERNEL)
 def linear_forward(x, w, bias, y):  # pragma: no cover - compiled
     """y (R, K) = x (R, J) w (K, J)^T + bias (K,)."""
     rows, width = x.shape
-    for r in numba.prange(rows):
+    for r in range(rows):
         for o in range(w.shape[0]):
             acc = bias[o]
             for j in range(width):
@@ -122,11 +126,11 @@ def linear_forward(x, w, bias, y):  # pragma: no cover - compiled
             y[r, o] = acc
 
 
-@numba.njit(parallel=True, **_KERNEL)
+@numba.njit(**_KERNEL)
 def linear_input_grad(dy, w, dx):  # pragma: no cover - compiled
     """dx (R, J) = dy (R, K) w (K, J)."""
     rows, width = dx.shape
-    for r in numba.prange(rows):
+    for r in range(rows):
         for j in range(width):
             dx[r, j] = np.float32(0.0)
         for o in range(w.shape[0]):
@@ -135,12 +139,12 @@ def linear_input_grad(dy, w, dx):  # pragma: no cover - compiled
                 dx[r, j] += g * w[o, j]
 
 
-@numba.njit(parallel=True, **_KERNEL)
+@numba.njit(**_KERNEL)
 def row_outer_sum(a, c, out, total):  # pragma: no cover - compiled
     """out (J, K) = sum_r a[r, j] c[r, k] and total (J,) = sum_r a[r, j], each over r in order."""
     rows, cols = a.shape
     width = c.shape[1]
-    for j in numba.prange(cols):
+    for j in range(cols):
         acc = np.zeros(width, np.float32)
         s = np.float32(0.0)
         for r in range(rows):

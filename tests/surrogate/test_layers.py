@@ -3,7 +3,6 @@ rational tanh's 4e-7), state dicts that load both ways, and sums that do not dep
 
 import numba
 import numpy as np
-import pytest
 import torch
 from torch import nn
 
@@ -75,20 +74,27 @@ def test_initialisation_draws_what_torch_draws():
     assert all(torch.equal(lin[k], ref[k]) for k in ref)
 
 
-@pytest.mark.parametrize("threads", [1, 2])
-def test_gradients_are_the_same_bits_on_any_thread_count(threads):
-    ours, _ = _pair(hidden=16, num_layers=1, seed=2)
-    x, w = torch.randn(33, 40, 4), torch.randn(33, 40, 16)
-    before = numba.get_num_threads()
-    try:
-        numba.set_num_threads(1)
-        reference = _grads(ours, x, w)[2]
-        ours.zero_grad()
-        numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
-        again = _grads(ours, x, w)[2]
-    finally:
-        numba.set_num_threads(before)
-    assert all(np.array_equal(reference[k].numpy(), again[k].numpy()) for k in reference)
+def _one_training_step() -> float:
+    ours, _ = _pair(hidden=8, num_layers=1, seed=2)
+    return float(_grads(ours, torch.randn(4, 10, 4), torch.randn(4, 10, 8))[2]["bias_hh_l0"].sum())
+
+
+def test_a_forked_child_trains_after_the_parent_ran_numbas_thread_pool():
+    """`train` forks its model processes after the parent may have run the population kernel
+    (numba's OpenMP pool), which aborts a child that starts the pool again: the training
+    kernels never do."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    from ftfof.surrogate.gru_kernel import Layer
+
+    rng = np.random.default_rng(0)
+    w = [rng.normal(size=s).astype(np.float32) for s in ((24, 4), (24, 8), (24,), (24,))]
+    Layer.from_torch(*w).hidden_states(rng.normal(size=(8, 5, 4)).astype(np.float32))
+    assert numba.threading_layer()  # the parent's pool is running
+    expected = _one_training_step()
+    with ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("fork")) as pool:
+        assert pool.submit(_one_training_step).result(timeout=120) == expected
 
 
 def test_dropout_between_layers_only_while_training():

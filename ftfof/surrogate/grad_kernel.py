@@ -8,8 +8,9 @@ order, so a layer gives the same bits on any x86-64 CPU:
 
 - every output element is one loop's sum, in the order of its terms;
 - the weight gradients sum over (batch, step) rows in row order;
-- the gates use the population kernel's rational tanh (:mod:`ftfof.surrogate.gru_kernel`), so a
-  trained model is evaluated during the search by the same function it was fitted with.
+- the cell is the population kernel's (:func:`ftfof.surrogate.gru_kernel.gru_cell`, its rational
+  tanh included), so a trained model is evaluated during the search by the function it was
+  fitted with.
 
 Layouts follow torch: gates (r, z, n) side by side in 3H columns, W_ih (3H, I), W_hh (3H, H).
 Single-threaded on purpose: `train` runs its models side by side in forked processes (one
@@ -27,7 +28,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ftfof.surrogate.gru_kernel import _HALF, _KERNEL, _ONE, tanh_rational
+from ftfof.surrogate.gru_kernel import _KERNEL, _ONE, gru_cell
 
 
 @numba.njit(**_KERNEL)
@@ -56,11 +57,10 @@ def gru_forward(x, w_ih_t, b_ih, w_hh_t, b_hh, h_out, gates):  # pragma: no cove
                 for j in range(width):
                     gh[j] += hk * w_hh_t[k, j]
             for j in range(hid):
-                r = _HALF + _HALF * tanh_rational(_HALF * (gi[j] + gh[j]))
-                z = _HALF + _HALF * tanh_rational(_HALF * (gi[hid + j] + gh[hid + j]))
                 hn = gh[2 * hid + j]
-                n = tanh_rational(gi[2 * hid + j] + r * hn)
-                h[j] = (_ONE - z) * n + z * h[j]
+                r, z, n, h[j] = gru_cell(
+                    gi[j] + gh[j], gi[hid + j] + gh[hid + j], gi[2 * hid + j], hn, h[j]
+                )
                 h_out[b, t, j] = h[j]
                 gates[b, t, 0, j] = r
                 gates[b, t, 1, j] = z

@@ -58,6 +58,17 @@ def tanh_rational(x):  # pragma: no cover - compiled
     return a * p / q
 
 
+@numba.njit(inline="always", **_KERNEL)
+def gru_cell(a_r, a_z, a_in, a_hn, h):  # pragma: no cover - compiled
+    """PyTorch's GRU cell for one unit, from its gates' pre-activations: a_r and a_z (input and
+    recurrent parts summed), a_in and a_hn (the n gate's input part and W_hn h + b_hn). Returns
+    r, z, n and the new state; the one home of these equations for inference and training."""
+    r = _HALF + _HALF * tanh_rational(_HALF * a_r)
+    z = _HALF + _HALF * tanh_rational(_HALF * a_z)
+    n = tanh_rational(a_in + r * a_hn)
+    return r, z, n, (_ONE - z) * n + z * h
+
+
 @numba.njit(**_KERNEL)
 def tanh_array(x, out):  # pragma: no cover - compiled
     for i in range(x.size):
@@ -91,10 +102,13 @@ def _advance(x, t, first, rows, w_ih_t, b_ih, w_hh_t, b_hh, h, gi, gh):  # pragm
             gh[3, j] += h3 * w
     for i in range(rows):
         for j in range(hid):
-            r = _HALF + _HALF * tanh_rational(_HALF * (gi[i, j] + gh[i, j]))
-            z = _HALF + _HALF * tanh_rational(_HALF * (gi[i, hid + j] + gh[i, hid + j]))
-            n = tanh_rational(gi[i, 2 * hid + j] + r * gh[i, 2 * hid + j])
-            h[i, j] = (_ONE - z) * n + z * h[i, j]
+            h[i, j] = gru_cell(
+                gi[i, j] + gh[i, j],
+                gi[i, hid + j] + gh[i, hid + j],
+                gi[i, 2 * hid + j],
+                gh[i, 2 * hid + j],
+                h[i, j],
+            )[3]
 
 
 @numba.njit(parallel=True, **_KERNEL)

@@ -29,7 +29,7 @@ def _weight_grads(d: np.ndarray, inputs: np.ndarray) -> tuple[torch.Tensor, torc
     d, inputs = _rows(d), _rows(inputs)
     w = np.empty((d.shape[1], inputs.shape[1]), np.float32)
     b = np.empty(d.shape[1], np.float32)
-    kernel.row_outer_sum(d, np.ascontiguousarray(inputs), w, b)
+    kernel.row_outer_sum(d, inputs, w, b)
     return torch.from_numpy(w), torch.from_numpy(b)
 
 
@@ -113,8 +113,8 @@ class GRU(nn.Module):
         for layer in range(self.num_layers):
             if layer > 0 and self.dropout > 0:
                 x = nn.functional.dropout(x, self.dropout, self.training)
-            p = [getattr(self, f"{n}_l{layer}") for n in ("weight_ih", "weight_hh", "bias_ih")]
-            x = _GRULayerFn.apply(x, *p, getattr(self, f"bias_hh_l{layer}"))
+            names = ("weight_ih", "weight_hh", "bias_ih", "bias_hh")
+            x = _GRULayerFn.apply(x, *(getattr(self, f"{n}_l{layer}") for n in names))
             last.append(x[:, -1])
         return x, torch.stack(last)
 

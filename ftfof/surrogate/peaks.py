@@ -90,7 +90,7 @@ class PeakModel:
         rows with a finite (for a log model, positive) peak."""
         X = self._scaled(decisions)
         y = (_fitted(peaks, self.log) - self.y_mean) / self.y_scale
-        keep = np.isfinite(y) & np.isfinite(X).all(axis=1)
+        keep = _usable(X, y)
         X, y = X[keep], y[keep]
         K = self._covariance(X, X)
         K[np.diag_indices_from(K)] += self.noise + JITTER
@@ -216,7 +216,7 @@ def near_front(target: str, broad: PeakModel | None, decisions: Array, peaks: Ar
     between the rounds' points is the GP's, not the simulator's."""
     log = target in LOG_PEAKS
     local = fit_peak_model(target, decisions, peaks, LOCAL_MAX_LENGTH_SCALE, log)
-    fitted = np.isfinite(_fitted(peaks, log)) & np.isfinite(decisions).all(axis=1)
+    fitted = _usable(np.asarray(decisions, dtype=float), _fitted(peaks, log))
     local = replace(local, floor=float(np.asarray(peaks, dtype=float)[fitted].min()))
     K = local._covariance(local.train_inputs, local.train_inputs)
     K[np.diag_indices_from(K)] += local.noise + JITTER
@@ -243,6 +243,11 @@ def _fitted(peaks: Array, log: bool) -> Array:
         return np.where(y > 0, np.log(y), np.nan)
 
 
+def _usable(X: Array, y: Array) -> NDArray[np.bool_]:
+    """The rows a GP is fitted on: finite control values and a finite fitted peak."""
+    return np.isfinite(y) & np.isfinite(X).all(axis=1)
+
+
 def fit_peak_model(
     target: str, decisions: Array, peaks: Array, max_length_scale: float = 1e5, log: bool = False
 ) -> PeakModel:
@@ -254,7 +259,7 @@ def fit_peak_model(
 
     X = np.asarray(decisions, dtype=float)
     y = _fitted(peaks, log)
-    keep = np.isfinite(y) & np.isfinite(X).all(axis=1)
+    keep = _usable(X, y)
     if keep.sum() < 3:
         raise ValueError(f"{keep.sum()} rows supply the {target} peak: a GP needs at least 3")
     X, y = X[keep], y[keep]

@@ -80,11 +80,10 @@ class Foot(Strict):
     """Pad geometry that shapes the constraint policy (FTFOF §VI.A, Fig. 6-7)."""
 
     pad_length: PositiveFloat  # lf, m
-    film_min_bend_radius: PositiveFloat  # fc, m
+    # fc, m: the film's tightest bend without damage, a rule every trajectory keeps (its free
+    # span, measured by the simulator and predicted by the surrogate)
+    film_min_bend_radius: PositiveFloat
     droop_height: NonNegativeFloat  # hs, m
-    # film safety when fc is below reach: no trajectory may bend the film tighter than this
-    # fraction of the radius every steady peel imposes at its root (ftfof.sim.film.FilmLimit)
-    peel_root_fraction: Annotated[float, Field(gt=0, le=1)] = 0.75
     # the whole pad rises at least this far above the wall in the swing (the film's lowest point
     # on the platform), or it scuffs along the wall and lands while the foot still moves, m
     swing_clearance: PositiveFloat
@@ -170,16 +169,37 @@ class XZ(Strict):
 
 
 class FilmMechanics(Strict):
-    """The PET film with its adhesive layer, as the simulator's ANCF cable (docs/simulator.md)."""
+    """The PET film with its adhesive layer, as the simulator's ANCF cable (docs/simulator.md).
+
+    The stiffness follows from the material and the thickness, in this one place: the adhesive
+    foam adds mass, not stiffness, and a film is only as thick as its fc lets it be (the robot's
+    check: its outer fibre t / 2 fc stays within the yield strain).
+    """
 
     width: PositiveFloat  # b, m
-    bending_stiffness: PositiveFloat  # EI, N m^2 (PET: E b h^3 / 12)
-    axial_stiffness: PositiveFloat  # EA, N
+    thickness: PositiveFloat  # t, m (the PET backing)
+    youngs_modulus: PositiveFloat  # E, Pa
+    yield_strain: Fraction  # the outer fibre's strain at yield: a bend past it stays
+    material_source: Annotated[str, Field(min_length=10)]  # where E and the yield come from
     mass_per_length: PositiveFloat  # kg/m, film + adhesive
     bending_damping: NonNegativeFloat  # N m^2 s
     axial_damping: NonNegativeFloat  # N s
     stop_radius: PositiveFloat  # m: bent tighter, the film's bending moment stiffens
     stop_stiffness: NonNegativeFloat  # how many times EI the moment rises past the stop
+
+    @property
+    def bending_stiffness(self) -> float:
+        """EI = E b t^3 / 12, N m^2."""
+        return self.youngs_modulus * self.width * self.thickness**3 / 12.0
+
+    @property
+    def axial_stiffness(self) -> float:
+        """EA = E b t, N."""
+        return self.youngs_modulus * self.width * self.thickness
+
+    def yield_radius(self) -> float:
+        """The tightest bend the film takes without permanent deformation: t / (2 yield strain)."""
+        return self.thickness / (2.0 * self.yield_strain)
 
 
 class FootMechanics(Strict):
@@ -250,6 +270,20 @@ class Robot(Strict):
     # The paper's published optimum (12 decision values, m), simulated in `evaluate` like a
     # baseline and never fitted; null where the robot has none usable here.
     published_optimum: Annotated[list[float], Field(min_length=12, max_length=12)] | None
+
+    @model_validator(mode="after")
+    def _film_survives_its_fc(self) -> Robot:
+        film, fc = self.platform.film, self.foot.film_min_bend_radius
+        strain = film.thickness / (2.0 * fc)
+        if strain > film.yield_strain:
+            raise ValueError(
+                f"platform.film.thickness {1e6 * film.thickness:g} um bent to"
+                f" foot.film_min_bend_radius {1e3 * fc:g} mm strains its outer fibre"
+                f" {100 * strain:.3g} %, past platform.film.yield_strain"
+                f" {100 * film.yield_strain:.3g} %: that film yields before fc (thinner than"
+                f" {1e6 * 2 * fc * film.yield_strain:.0f} um survives it)"
+            )
+        return self
 
 
 class Surface(Strict):
@@ -457,6 +491,9 @@ class Evaluate(Strict):
     # s: Table I's trajectories are simulated again with this solver step (null: not), to show
     # whether the answer holds where the acquisition step does not resolve it (docs/simulator.md)
     check_step: PositiveFloat | None = 1.25e-4
+    # film elements: the optimum, the front members and Table I's trajectories are simulated
+    # again on this many, to show the film's bend converged where fc is judged (null: not)
+    check_nodes: Annotated[int, Field(ge=4)] | None = 80
 
 
 class LogColumns(Strict):
@@ -581,6 +618,17 @@ class Params(Strict):
             raise ValueError(
                 f"evaluate.check_step: {check:g} s is not finer than acquire.solver.step "
                 f"({step:g} s); it checks the answer at a smaller step (null: no check)"
+            )
+        return self
+
+    @model_validator(mode="after")
+    def _the_check_film_is_finer(self) -> Params:
+        check, nodes = self.evaluate.check_nodes, self.acquire.solver.nodes
+        if check is not None and check <= nodes:
+            raise ValueError(
+                f"evaluate.check_nodes: {check} film elements are not finer than"
+                f" acquire.solver.nodes ({nodes}); it checks the film's bend on a finer film"
+                " (null: no check)"
             )
         return self
 

@@ -1,8 +1,10 @@
 """`ftfof calibrate`: fit the selected surface to FTFOF Table I with the two baselines.
 
-Writes reports/calibration.json (fitted values, residuals, measurements, every evaluation). With
-``--write-params`` it also sets the fitted keys of that surface in params.yaml, each with a comment
-naming the fit, through the same round-trip edit as `ftfof profile`: the rest stays as it is.
+Writes reports/calibration.json (fitted and fixed values, the bounds, which bound or cap a value
+sits on, residuals, what the fit does to the film, every evaluation). ``--fix key=value`` holds a
+value, ``--bound key=lo:hi`` sets a fitted value's range. With ``--write-params`` it also sets
+the fitted and fixed keys of that surface in params.yaml, each with a comment naming the fit,
+through the same round-trip edit as `ftfof profile`: the rest stays as it is.
 """
 
 from __future__ import annotations
@@ -13,7 +15,7 @@ from typing import Annotated, Any
 import typer
 
 from ftfof.errors import ParamsError
-from ftfof.pipeline.calibration import THIRD_BOUNDS
+from ftfof.pipeline.calibration import FITTABLE, THIRD_BOUNDS
 from ftfof.pipeline.io import write_json
 from stages.common import ParamsOption, console, stage
 
@@ -28,26 +30,63 @@ def command(
         str | None,
         typer.Option(help=f"One more surface parameter to fit: {', '.join(THIRD_BOUNDS)}; 'none'."),
     ] = "preload_pressure",
+    fix: Annotated[
+        list[str] | None,
+        typer.Option(help=f"Hold a surface value, key=value (repeatable): {', '.join(FITTABLE)}."),
+    ] = None,
+    bound: Annotated[
+        list[str] | None,
+        typer.Option(help="A fitted value's range, key=lo:hi (repeatable)."),
+    ] = None,
     evaluations: Annotated[int, typer.Option(min=4, help="Simulation pairs at most.")] = 60,
     report: Annotated[Path, typer.Option(help="Calibration report JSON.")] = REPORT,
     write_params: Annotated[bool, typer.Option(help="Write the fit into params.yaml.")] = False,
 ) -> None:
     """Fit the surface's strength and fracture energy (and one more) to FTFOF Table I."""
-    from ftfof.pipeline.calibration import fit_surface
+    from ftfof.pipeline.calibration import fit_surface, parse_bounds, parse_fixes
     from ftfof.pipeline.params_file import edit_params, load_params
 
+    fixed, bounds = parse_fixes(fix or ()), parse_bounds(bound or ())
     params = load_params(params_path)
-    fit = fit_surface(params, third, evaluations)
+    fit = fit_surface(params, third, evaluations, fixed, bounds)
     write_json(report, fit)
-    for name, value in fit["values"].items():
-        console.print(f"  {name:18s} {value:.6g}")
-    for name, err in fit["residuals"].items():
-        console.print(f"  {name:34s} {err:+.1%}")
+    show(fit)
     if write_params:
         edit_params(
-            params_path, lambda document: update_surface(document, params.surface, fit["values"])
+            params_path,
+            lambda document: update_surface(
+                document, params.surface, {**fit["fixed"], **fit["values"]}
+            ),
         )
         console.print(f"wrote the fit into {params_path}")
+
+
+def show(fit: dict[str, Any]) -> None:
+    """The fit in a few lines: values (and the bound or cap each sits on), residuals, the film."""
+    for name, value in fit["fixed"].items():
+        console.print(f"  {name:18s} {value:.6g}  (fixed)")
+    for name, value in fit["values"].items():
+        lo, hi = fit["bounds"][name]
+        on = fit["active"].get(name)
+        where = f"  ON THE {on.upper()}: Table I does not decide it" if on else ""
+        console.print(f"  {name:18s} {value:.6g}  in [{lo:g}, {hi:g}]{where}")
+    for name, err in fit["residuals"].items():
+        console.print(f"  {name:34s} {err:+.1%}")
+    film = fit["film"]
+    console.print(
+        f"  critical opening 2G/sigma {1e3 * film['critical_opening']:.2f} mm; peel-root radius "
+        f"{1e3 * film['peel_root_radius']:.2f} mm against fc {1e3 * film['fc']:.1f} mm "
+        f"(G cap {fit['fracture_energy_cap']:.1f} J/m^2: the film survives a steady peel at fc)"
+    )
+    for name, b in film["baselines"].items():
+        if b["clamp_edge_radius_at_90deg"] is None:
+            continue
+        console.print(
+            f"  {name}: film bent to {1e3 * b['min_bend_radius']:.2f} mm; its "
+            f"{b['peak_pull']:.2f} N peak bends the clamp edge to "
+            f"{1e3 * b['clamp_edge_radius_at_90deg']:.2f} mm at 90 deg, keeps fc up to "
+            f"{b['max_angle_keeping_fc_deg']:.0f} deg"
+        )
 
 
 def update_surface(document: Any, surface: str, values: dict[str, float]) -> None:

@@ -117,28 +117,44 @@ def test_forced_rerun_at_another_commit_reproduces_every_artefact(repo):
 def test_a_queued_sweep_runs_in_parallel_workers_and_compares(repo):
     # `ftfof sweep` queues the product (every setting named) and runs it with `dvc queue start
     # -j 2`; the workers run in temporary copies under .dvc/tmp and here see no
-    # MLFLOW_TRACKING_URI: their runs must still land in the repository's own store
-    sweep = ("sweep", "robots=mst_q,mst_m3f", "surfaces=glass", "--jobs", "2", "--poll", "2")
+    # MLFLOW_TRACKING_URI: their runs must still land in the repository's own store. The painted
+    # wall: MST-Q's straight-up peel keeps fc there (on acrylic and glass no path of it does)
+    sweep = ("sweep", "robots=mst_q,mst_m3f", "surfaces=painted_wall", "--jobs", "2", "--poll", "2")
     out = run(repo, "python", "-m", "ftfof", *sweep, timeout=1500, unset=("MLFLOW_TRACKING_URI",))
-    assert "mst_q-glass" in out.stdout and "mst_m3f-glass" in out.stdout  # the exp show table
+    assert (
+        "mst_q-painted_wall" in out.stdout and "mst_m3f-painted_wall" in out.stdout
+    )  # the exp show table
     shown = json.dumps(json.loads(run(repo, "dvc", "exp", "show", "--json").stdout))
-    assert '"mst_q-glass"' in shown and '"mst_m3f-glass"' in shown
-    diff = run(repo, "dvc", "metrics", "diff", "--json", "mst_q-glass", "mst_m3f-glass")
+    assert '"mst_q-painted_wall"' in shown and '"mst_m3f-painted_wall"' in shown
+    diff = run(
+        repo, "dvc", "metrics", "diff", "--json", "mst_q-painted_wall", "mst_m3f-painted_wall"
+    )
     assert "table.optimum.peak_detachment" in json.loads(diff.stdout)["reports/metrics.json"]
-    run(repo, "dvc", "plots", "diff", "mst_q-glass", "mst_m3f-glass", "-o", "plots_html")
+    run(
+        repo,
+        "dvc",
+        "plots",
+        "diff",
+        "mst_q-painted_wall",
+        "mst_m3f-painted_wall",
+        "-o",
+        "plots_html",
+    )
     page = (repo / "plots_html/index.html").read_text()
     assert "<img" in page and "http" not in page  # PNG plots, readable offline
     client = mlflow.MlflowClient(tracking_uri=f"sqlite:///{repo / 'mlflow.db'}")
     quad = client.get_experiment_by_name("ftfof-mst_q")
     (run_q,) = client.search_runs([quad.experiment_id], "attributes.run_name = 'optimize'")
-    assert run_q.data.tags["dvc.exp_name"] == "mst_q-glass"
+    assert run_q.data.tags["dvc.exp_name"] == "mst_q-painted_wall"
     m3f = client.get_experiment_by_name("ftfof-mst_m3f")
-    on_glass = client.search_runs([m3f.experiment_id], "tags.`dvc.exp_name` = 'mst_m3f-glass'")
-    assert {r.info.run_name for r in on_glass} >= {"train", "optimize", "refine", "evaluate"}
-    assert all(r.data.params.get("surface", "glass") == "glass" for r in on_glass)
+    on_wall = client.search_runs(
+        [m3f.experiment_id], "tags.`dvc.exp_name` = 'mst_m3f-painted_wall'"
+    )
+    assert {r.info.run_name for r in on_wall} >= {"train", "optimize", "refine", "evaluate"}
+    assert all(r.data.params.get("surface", "painted_wall") == "painted_wall" for r in on_wall)
     # each experiment registered under its own alias; the workspace's champion is not theirs
-    mine = client.get_model_version_by_alias("ftfof-mst_m3f-mse", "exp-mst_m3f-glass")
-    assert client.get_run(mine.run_id).data.tags["dvc.exp_name"] == "mst_m3f-glass"
+    mine = client.get_model_version_by_alias("ftfof-mst_m3f-mse", "exp-mst_m3f-painted_wall")
+    assert client.get_run(mine.run_id).data.tags["dvc.exp_name"] == "mst_m3f-painted_wall"
     for version in client.search_model_versions("name = 'ftfof-mst_m3f-mse'"):
         if "champion" in version.aliases:
             assert "dvc.exp_name" not in client.get_run(version.run_id).data.tags

@@ -21,6 +21,7 @@ from ftfof.errors import DataError, SimulationError
 from ftfof.evaluate.choice import TABLE_ANALOGUE, Candidate, choice_summary, rhs_candidates
 from ftfof.evaluate.export import ControllerTrajectory, ExportRateError, controller_trajectory
 from ftfof.evaluate.fidelity import Fidelity, fidelity, simulated_objectives
+from ftfof.evaluate.film_check import FILM, FilmCheck
 from ftfof.evaluate.step_check import CHECKED, FINE, StepCheck, checked_figures, step_check
 from ftfof.evaluate.table import COLUMNS, PAPER_TABLE_I, PEAKS, TableRow, table_one
 from ftfof.kinematics.legs import build_leg
@@ -89,12 +90,41 @@ def ok_rows(df: pd.DataFrame, reference: str) -> pd.DataFrame:
     return df[df.status == "ok"]
 
 
-def split_steps(simulations: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame]:
-    """The runs at the acquisition's step, and those at the check step (``FINE`` removed from
-    their sources)."""
+def split_runs(simulations: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame, pd.DataFrame]:
+    """The runs as the acquisition makes them, those at the check step and those on the check
+    film (each with its ``FINE`` / ``FILM`` prefix removed from the source)."""
     fine = simulations.source.str.startswith(FINE)
-    check = simulations[fine]
-    return simulations[~fine], check.assign(source=check.source.str.removeprefix(FINE))
+    film = simulations.source.str.startswith(FILM)
+    check, on_film = simulations[fine], simulations[film]
+    return (
+        simulations[~fine & ~film],
+        check.assign(source=check.source.str.removeprefix(FINE)),
+        on_film.assign(source=on_film.source.str.removeprefix(FILM)),
+    )
+
+
+def run_name(source: str, sample_id: int) -> str:
+    """A run's name across checks: Table I's name, or ``front <row>`` for a front member."""
+    return f"front {sample_id}" if source == "front" else table_name(source)
+
+
+def checked_on_both_films(
+    params: Params, ctx: RobotContext, table: pd.DataFrame, film: pd.DataFrame
+) -> FilmCheck | None:
+    """Every successful run's min bend radius at the acquisition's node count (``table``) and on
+    ``evaluate.check_nodes`` elements (``film``); None without a check film."""
+    check = params.evaluate.check_nodes
+    if check is None:
+        return None
+
+    def radii(df: pd.DataFrame) -> dict[str, float]:
+        ok = df[df.status == "ok"]
+        return {
+            run_name(r.source, int(r.sample_id)): float(r.min_bend_radius) for r in ok.itertuples()
+        }
+
+    fc = ctx.robot.foot.film_min_bend_radius
+    return FilmCheck(params.acquire.solver.nodes, check, fc, radii(table), radii(film))
 
 
 def compared(df: pd.DataFrame, reference: str) -> dict[str, pd.Series]:
@@ -146,12 +176,15 @@ def checked_at_both_steps(
     return step_check(at_step, at_check, cfg.reference, params.acquire.solver.step, cfg.check_step)
 
 
-def front_members(df: pd.DataFrame, T3: float, rules: FootRules, film: FilmLimit) -> dict:
+def front_members(
+    df: pd.DataFrame, T3: float, rules: FootRules, film: FilmLimit, films: FilmCheck | None = None
+) -> dict:
     """The re-simulated optimum and front members side by side: what each trades (pull, jitter,
     landing press), whether its film survives, its pad lets go and clears the wall, it lands
     pressing within the robot's tolerance of a and the body shakes within the robot's limit
     (``rules``, the simulator check's; ``film`` says where the film limit comes from), so the
-    choice can be judged in simulation."""
+    choice can be judged in simulation. With ``films``, each member's bend on the check film
+    too, and whether it keeps fc there."""
     sims = simulated_rows(df)
     members = []
     for _, row in sims.iterrows():  # a few tens of rows, once per evaluation
@@ -174,6 +207,7 @@ def front_members(df: pd.DataFrame, T3: float, rules: FootRules, film: FilmLimit
                 ),
                 "min_bend_radius": round(f["min_bend_radius"], 6),
                 "film_safe": not faults.film,
+                **_on_check_film(films, run_name(row.source, int(row.sample_id)), film.fc),
                 "max_clearance": round(float(row.max_clearance), 6),
                 "lets_go": not faults.release,
                 "release_fault": faults.release,
@@ -186,11 +220,16 @@ def front_members(df: pd.DataFrame, T3: float, rules: FootRules, film: FilmLimit
         )
 
     def fraction(key: str) -> float | None:
-        return round(float(np.mean([m[key] for m in members])), 4) if members else None
+        """Over the members that have ``key`` (a member not run on the check film has None)."""
+        have = [m[key] for m in members if m.get(key) is not None]
+        return round(float(np.mean(have)), 4) if have else None
 
     return {
         "members": members,
         "film_safe_fraction": fraction("film_safe"),
+        "film_safe_on_check_film_fraction": fraction("film_safe_on_check_film")
+        if films is not None
+        else None,
         "lets_go_fraction": fraction("lets_go"),
         "lands_fraction": fraction("lands"),
         "calm_fraction": fraction("calm"),
@@ -202,11 +241,24 @@ def front_members(df: pd.DataFrame, T3: float, rules: FootRules, film: FilmLimit
     }
 
 
-def judged_front(params: Params, ctx: RobotContext, df: pd.DataFrame) -> dict:
+def _on_check_film(films: FilmCheck | None, name: str, fc: float) -> dict[str, Any]:
+    """A member's bend on the check film and whether it keeps fc there (None: no such run)."""
+    if films is None:
+        return {}
+    pair = films.pair(name)
+    return {
+        "min_bend_radius_on_check_film": None if pair is None else round(pair[1], 6),
+        "film_safe_on_check_film": None if pair is None else pair[1] >= fc,
+    }
+
+
+def judged_front(
+    params: Params, ctx: RobotContext, df: pd.DataFrame, films: FilmCheck | None = None
+) -> dict:
     """:func:`front_members` with the robot's rules."""
     robot, surface = ctx.robot, params.selected_surface
     rules = foot_rules(robot, surface, params.platform.protocol.landing_hold)
-    return front_members(df, ctx.policy.timing.T3, rules, film_limit(robot, surface))
+    return front_members(df, ctx.policy.timing.T3, rules, film_limit(robot, surface), films)
 
 
 def simulated_rows(df: pd.DataFrame) -> pd.DataFrame:
@@ -391,6 +443,7 @@ def context(
         ),
         "paper_columns": [{"key": c, "label": label} for c, label, _ in PEAKS],
         "step_check": summary["step_check"],
+        "film_check": summary["film_check"],
         "step_columns": [{"key": c, "label": label, "unit": unit} for c, label, unit in CHECKED],
         "step_labels": {c: label for c, label, _ in CHECKED},
         "table": [
@@ -449,18 +502,20 @@ def evaluate(
 ) -> Evaluation:
     """Everything the report shows, from the re-simulations of the optimum, front and baselines."""
     cfg = params.evaluate
-    at_step, fine = split_steps(simulations)
+    at_step, fine, on_film = split_runs(simulations)
     table = ok_rows(at_step, cfg.reference)
     T3 = ctx.policy.timing.T3
     rows = table_rows(table, cfg.reference, T3)
     steps = checked_at_both_steps(params, table, fine, T3)
-    front = judged_front(params, ctx, table)
+    films = checked_on_both_films(params, ctx, table, on_film)
+    front = judged_front(params, ctx, table, films)
     fid, predicted, simulated = fidelity_of(inputs, table, ctx, surrogate)
     controller = export(ctx, inputs, cfg.export_rate_hz)
     n_fidelity = len(predicted) - (0 if from_front(inputs) else 1)
     candidates = rhs_candidates(inputs.optimum, inputs.objectives)
     summary = metrics(params, inputs, rows, fid, controller, n_fidelity, front, candidates)
     summary["step_check"] = None if steps is None else steps.as_dict(OPTIMUM)
+    summary["film_check"] = None if films is None else films.as_dict()
     figures = simulation_figures(
         table, predicted, simulated, inputs.objectives, cfg.reference, rows, candidates
     )

@@ -1,8 +1,10 @@
-"""Fitting a surface to FTFOF Table I: which parameters may be fitted, within what bounds, and the
-report of a fit."""
+"""Fitting a surface to FTFOF Table I: which parameters may be fitted or fixed, within what bounds,
+and the report of a fit: where it sits on a bound or cap, and what it does to the film."""
 
 from __future__ import annotations
 
+import math
+from collections.abc import Iterable
 from typing import Any
 
 from ftfof.config import Params, Surface
@@ -10,7 +12,9 @@ from ftfof.errors import ParamsError
 from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench
 from ftfof.pipeline.console import console
 from ftfof.robot import robot_context
+from ftfof.sim import film
 
+BOUNDS = {"strength": (2e3, 5e5), "fracture_energy": (1.0, 5e3)}
 THIRD_BOUNDS = {
     "preload_pressure": (2e2, 5e4),
     "rate_exponent": (0.1, 1.2),
@@ -19,38 +23,150 @@ THIRD_BOUNDS = {
     "friction": (0.1, 1.5),
     "contact_stiffness": (1e7, 1e10),
 }
-BOUNDS = {"strength": (2e3, 5e5), "fracture_energy": (1.0, 5e3)}
+FITTABLE = {**BOUNDS, **THIRD_BOUNDS}
 
 
-def fit_surface(params: Params, third: str | None, evaluations: int) -> dict[str, Any]:
-    """Fit strength and fracture energy (and ``third``) with the Table I baselines; the report."""
-    from ftfof.sim.calibrate import TABLE_I, calibrate
+def _pair(option: str, text: str) -> tuple[str, str]:
+    key, sep, value = text.partition("=")
+    key = key.strip()
+    if not sep or not value.strip():
+        raise ParamsError(option, f"{text!r} is not key=value")
+    if key not in FITTABLE:
+        raise ParamsError(
+            f"{option} {key}", f"is not a surface parameter the fit knows ({', '.join(FITTABLE)})"
+        )
+    return key, value.strip()
 
-    ctx = robot_context(params)
-    bounds = dict(BOUNDS)
+
+def _number(option: str, key: str, text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise ParamsError(f"{option} {key}", f"{text!r} is not a number") from None
+    if not math.isfinite(value) or value <= 0:
+        raise ParamsError(f"{option} {key}", f"must be a positive number (got {text})")
+    return value
+
+
+def parse_fixes(texts: Iterable[str]) -> dict[str, float]:
+    """``--fix key=value``: surface values held, not fitted."""
+    out = {}
+    for text in texts:
+        key, value = _pair("--fix", text)
+        out[key] = _number("--fix", key, value)
+    return out
+
+
+def parse_bounds(texts: Iterable[str]) -> dict[str, tuple[float, float]]:
+    """``--bound key=lo:hi``: the range a fitted value may take."""
+    out = {}
+    for text in texts:
+        key, value = _pair("--bound", text)
+        lo_text, sep, hi_text = value.partition(":")
+        if not sep:
+            raise ParamsError(f"--bound {key}", f"{value!r} is not lo:hi")
+        lo, hi = _number("--bound", key, lo_text), _number("--bound", key, hi_text)
+        if not lo < hi:
+            raise ParamsError(f"--bound {key}", f"needs lo < hi (got {value})")
+        out[key] = (lo, hi)
+    return out
+
+
+def fit_bounds(
+    third: str | None, fixed: dict[str, float], overrides: dict[str, tuple[float, float]]
+) -> dict[str, tuple[float, float]]:
+    """The fitted parameters and their ranges: strength and G unless fixed, plus ``third``."""
+    bounds = {k: v for k, v in BOUNDS.items() if k not in fixed}
     if third and third != "none":
         if third not in THIRD_BOUNDS:
             raise ParamsError(
                 "--third", f"cannot fit {third!r} (choose from {', '.join(THIRD_BOUNDS)})"
             )
-        bounds[third] = THIRD_BOUNDS[third]
+        if third not in fixed:
+            bounds[third] = THIRD_BOUNDS[third]
+    for key, pair in overrides.items():
+        if key in fixed:
+            raise ParamsError(f"--bound {key}", "is also fixed by --fix: bound it or fix it")
+        if key not in bounds:
+            raise ParamsError(f"--bound {key}", f"is not fitted (fitted: {', '.join(bounds)})")
+        bounds[key] = pair
+    if not bounds:
+        raise ParamsError("--fix", "holds every parameter: nothing is left to fit")
+    return bounds
+
+
+def film_report(params: Params, surface: Surface, measured: dict[str, dict[str, float]]) -> dict:
+    """What the fitted surface does to the robot's film: the bond's critical opening, the steady
+    peel's root radius against fc, and each baseline's clamp edge under its peak pull."""
+    robot = params.selected_robot
+    f, fc = robot.platform.film, robot.foot.film_min_bend_radius
+    ei, g = f.bending_stiffness, surface.fracture_energy
+    baselines = {}
+    for name, m in measured.items():
+        pull = m["peak_detachment"]
+        baselines[name] = {
+            "min_bend_radius": m["min_bend_radius"],  # measured on the free span
+            "peak_pull": pull,
+            # elastica at the clamp edge: the radius under the peak pull at 90 deg to the clamp,
+            # and the largest angle between film and pull that keeps fc at that pull
+            "clamp_edge_radius_at_90deg": film.clamp_edge_radius(ei, pull, math.pi / 2)
+            if pull > 0
+            else None,
+            "max_angle_keeping_fc_deg": math.degrees(film.max_pull_angle(ei, pull, fc))
+            if pull > 0
+            else None,
+        }
+    return {
+        "fc": fc,
+        "bending_stiffness": ei,
+        "axial_stiffness": f.axial_stiffness,
+        "critical_opening": 2.0 * g / surface.strength,
+        "peel_root_radius": film.peel_root_radius(ei, f.width, g),
+        "survival_energy": film.survival_energy(ei, f.width, fc),
+        "baselines": baselines,
+    }
+
+
+def fit_surface(
+    params: Params,
+    third: str | None,
+    evaluations: int,
+    fixed: dict[str, float] | None = None,
+    bounds: dict[str, tuple[float, float]] | None = None,
+) -> dict[str, Any]:
+    """Fit strength and fracture energy (and ``third``) with the Table I baselines; the report."""
+    from ftfof.sim.calibrate import TABLE_I, calibrate
+
+    fixed = fixed or {}
+    ctx = robot_context(params)
+    fitted = fit_bounds(third, fixed, bounds or {})
+    start = params.selected_surface.model_copy(update=fixed)
     trajectories = baseline_trajectories(params, ctx)
+    f = ctx.robot.platform.film
+    cap = film.survival_energy(f.bending_stiffness, f.width, ctx.robot.foot.film_min_bend_radius)
 
     def specs_for(surface: Surface):
         return baseline_specs(bench(params, ctx, surface), trajectories, TABLE_I)
 
+    held = f"; holding {', '.join(f'{k} = {v:g}' for k, v in fixed.items())}" if fixed else ""
     console.print(
-        f"calibrating surface {params.surface!r} on {ctx.name}: fitting {', '.join(bounds)}"
+        f"calibrating surface {params.surface!r} on {ctx.name}: fitting {', '.join(fitted)}{held}"
     )
-    fit = calibrate(params.selected_surface, specs_for, bounds, params.acquire.workers, evaluations)
+    fit = calibrate(start, specs_for, fitted, params.acquire.workers, evaluations, cap)
+    surface = start.model_copy(update=fit.values)
     return {
         "surface": params.surface,
         "robot": ctx.name,
         "targets": TABLE_I,
         "values": fit.values,
+        "fixed": fixed,
+        "bounds": {k: list(v) for k, v in fitted.items()},
+        "fracture_energy_cap": cap,
+        "active": fit.active,
         "residuals": fit.residuals,
         "measured": fit.measured,
         "worst_relative_error": fit.worst,
+        "film": film_report(params, surface, fit.measured),
         "evaluations": fit.evaluations,
         "history": fit.history,
         "baselines": params.baselines.model_dump(),

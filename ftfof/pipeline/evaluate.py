@@ -15,6 +15,7 @@ import pyarrow.parquet as pq
 
 from ftfof.config import Params
 from ftfof.errors import DataError
+from ftfof.evaluate.film_check import FILM
 from ftfof.evaluate.run import (
     OPTIMUM,
     PAPER_OPTIMUM,
@@ -69,7 +70,8 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
     console.print(
         f"evaluate {ctx.name} on {params.surface}: {len(job.specs)} simulations "
         f"(optimum, {len(front_rows)} front members, baselines"
-        f"{'; Table I again at the check step' if params.evaluate.check_step else ''}), "
+        f"{'; Table I again at the check step' if params.evaluate.check_step else ''}"
+        f"{'; all on the check film' if params.evaluate.check_nodes else ''}), "
         f"{len(todo)} to run"
     )
     wall = job.simulate(
@@ -171,8 +173,9 @@ def _picture(path: Path) -> str:
 def _job(
     params: Params, ctx: RobotContext, out: Path, inputs: Inputs, front_rows: list[int]
 ) -> Acquisition:
-    """The optimum, the sampled front rows and the baselines, and Table I's trajectories again at
-    ``evaluate.check_step`` (sources prefixed ``FINE``), resumable under ``out``."""
+    """The optimum, the sampled front rows and the baselines; Table I's trajectories again at
+    ``evaluate.check_step`` (sources prefixed ``FINE``), and all of them again on
+    ``evaluate.check_nodes`` film elements (prefixed ``FILM``); resumable under ``out``."""
     on = bench(params, ctx)
     specs, controls = front_specs(on, inputs, front_rows)
     specs += baseline_specs(on, baseline_trajectories(params, ctx))
@@ -181,12 +184,17 @@ def _job(
         spec = on.bezier(PAPER_OPTIMUM, 0, X)
         specs.append(spec)
         controls[spec.key] = X
-    if params.evaluate.check_step is not None:
-        for spec in [s for s in specs if s.source != "front"]:
-            fine = with_step(spec, params.evaluate.check_step)
-            specs.append(fine)
-            if spec.key in controls:
-                controls[fine.key] = controls[spec.key]
+    cfg = params.evaluate
+    variants = []
+    if cfg.check_step is not None:
+        variants += [with_step(s, cfg.check_step) for s in specs if s.source != "front"]
+    if cfg.check_nodes is not None:
+        variants += [with_nodes(s, cfg.check_nodes) for s in specs]
+    for variant in variants:
+        original = variant.key.removeprefix(FINE).removeprefix(FILM)
+        if original in controls:
+            controls[variant.key] = controls[original]
+    specs += variants
     return Acquisition.start(
         params,
         ctx,
@@ -196,7 +204,8 @@ def _job(
         {
             "optimum": inputs.digest,
             "front_rows": front_rows,
-            "check_step": params.evaluate.check_step,  # a resumed job keeps runs of one step
+            "check_step": cfg.check_step,  # a resumed job keeps runs of one step
+            "check_nodes": cfg.check_nodes,  # and of one film
         },
     )
 
@@ -206,6 +215,12 @@ def with_step(spec: SampleSpec, step: float) -> SampleSpec:
     disturbs the body), its source and key prefixed ``FINE`` (the same sensor-noise seed)."""
     solver = spec.solver.model_copy(update={"step": step, "free_step": step})
     return replace(spec, key=FINE + spec.key, source=FINE + spec.source, solver=solver)
+
+
+def with_nodes(spec: SampleSpec, nodes: int) -> SampleSpec:
+    """``spec`` on a film of ``nodes`` elements, its source and key prefixed ``FILM``."""
+    solver = spec.solver.model_copy(update={"nodes": nodes})
+    return replace(spec, key=FILM + spec.key, source=FILM + spec.source, solver=solver)
 
 
 def front_specs(

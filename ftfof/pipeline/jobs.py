@@ -294,9 +294,8 @@ def summarize(
         "peak_detachment": stats("peak_detachment"),
         "peak_pre_pressure": stats("peak_pre_pressure"),
         "peak_body_acc": stats("peak_body_acc"),
-        # fractions of the sampled set bending the film below fc, and below the safety limit
+        # fraction of the sampled set bending the film tighter than fc, the film's limit
         "film_below_min_bend_radius": below("min_bend_radius", film.fc),
-        "film_below_limit": below("min_bend_radius", film.radius),
         "film_limit": film.as_dict(),
         "min_bend_radius": stats("min_bend_radius"),
         # fraction of the sampled set whose pad never rose foot.swing_clearance above the wall

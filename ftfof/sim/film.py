@@ -140,35 +140,53 @@ def peel_root_radius(bending_stiffness: float, width: float, fracture_energy: fl
     return math.sqrt(bending_stiffness / (2.0 * width * fracture_energy))
 
 
+def survival_energy(bending_stiffness: float, width: float, fc: float) -> float:
+    """The largest fracture energy whose steady peel keeps the film at fc, EI / (2 b fc^2).
+
+    The peel-root radius sqrt(EI / 2bG) does not depend on the path, so a film that survives its
+    adhesive's peels at fc and no tighter (the paper's tested film, as thick as fc allows) bounds
+    the adhesive's quasi-static G by this.
+    """
+    return bending_stiffness / (2.0 * width * fc**2)
+
+
+def clamp_edge_radius(bending_stiffness: float, pull: float, angle: float) -> float:
+    """The film's bend radius at the clamp edge under ``pull`` at ``angle`` (rad) to the clamp.
+
+    Elastica of the free span between clamp and peel front: the moment at the clamp edge is
+    sqrt(2 EI F (1 - cos phi)), so the curvature there is sqrt(2 F (1 - cos phi) / EI).
+    """
+    return math.sqrt(bending_stiffness / (2.0 * pull * (1.0 - math.cos(angle))))
+
+
+def max_pull_angle(bending_stiffness: float, pull: float, fc: float) -> float:
+    """The largest angle (rad) between film and ``pull`` at which the clamp edge keeps fc."""
+    return math.acos(max(1.0 - bending_stiffness / (2.0 * pull * fc**2), -1.0))
+
+
 @dataclass(frozen=True)
 class FilmLimit:
-    """The smallest film bend radius a trajectory may cause, and where it comes from.
+    """The smallest film bend radius a trajectory may cause, fc, and the peel's own bend beside it.
 
-    FTFOF's fc is a damage limit of the film. Where every peel already bends the film tighter
-    than fc (fc > the peel-root radius), fc cannot be met by any trajectory; the rule then is
-    that the trajectory must not fold the film tighter than a fraction of the peel's own bend.
+    fc is a damage limit of the film (FTFOF §VI.A.3), and the film is as thick as fc lets it be,
+    so fc is the rule. The peel-root radius is a diagnostic: a steady quasi-static peel bends the
+    film that much at its root whatever the path, so where it is below fc only paths that load
+    the film differently (a faster peel, another angle at the clamp) keep fc.
     """
 
     fc: float  # m, the robot's film limit
     peel_root: float  # m, sqrt(EI / (2 b G)) of this film on this surface
-    fraction: float  # of the peel-root radius, when fc is out of reach
 
     @property
     def radius(self) -> float:
-        return min(self.fc, self.fraction * self.peel_root)
+        return self.fc
 
-    @property
-    def fc_reachable(self) -> bool:
-        return self.fc <= self.fraction * self.peel_root
-
-    def as_dict(self) -> dict[str, float | bool]:
+    def as_dict(self) -> dict[str, float]:
         """For reports: lengths in m to the micrometre."""
         return {
             "limit": round(self.radius, 6),
             "fc": round(self.fc, 6),
             "peel_root_radius": round(self.peel_root, 6),
-            "peel_root_fraction": round(self.fraction, 6),
-            "fc_reachable": self.fc_reachable,
         }
 
 
@@ -176,4 +194,4 @@ def film_limit(robot: Robot, surface: Surface) -> FilmLimit:
     """The film safety limit of ``robot``'s film on ``surface``."""
     film = robot.platform.film
     root = peel_root_radius(film.bending_stiffness, film.width, surface.fracture_energy)
-    return FilmLimit(robot.foot.film_min_bend_radius, root, robot.foot.peel_root_fraction)
+    return FilmLimit(robot.foot.film_min_bend_radius, root)

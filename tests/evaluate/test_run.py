@@ -9,6 +9,7 @@ import pytest
 from ftfof.data.dataset import CHANNELS
 from ftfof.data.faults import FootRules
 from ftfof.errors import SimulationError
+from ftfof.evaluate.film_check import FilmCheck
 from ftfof.evaluate.run import (
     OPTIMUM,
     PAPER_OPTIMUM,
@@ -94,13 +95,15 @@ def test_table_rows_compare_the_optimum_with_the_reference():
 
 def test_front_members_show_each_trade_and_the_film_verdict():
     sims = _simulations().assign(source=[OPTIMUM, "front"], sample_id=[7, 3])
-    sims["min_bend_radius"] = [0.0025, 0.0012]
+    sims["min_bend_radius"] = [0.0065, 0.0042]
     sims["landing_pre_pressure"] = [5.5, 4.0]
     sims["max_clearance"] = [0.03, 0.0015]
     sims["switch_time"] = [0.3, float("nan")]  # the second never let go
     sims["Fp"] = [np.where(t > 1.0, 5.2, 0.0) for t in sims["t"]]  # the first holds 5.2 N
     sims["peak_body_acc"] = [8.0, 12.0]
-    film = FilmLimit(fc=0.006, peel_root=0.002, fraction=0.75)
+    film = FilmLimit(fc=0.006, peel_root=0.0058)
+    # on the check film the optimum bends to 5.9 mm: past fc there, though not on 40 elements
+    films = FilmCheck(40, 80, 0.006, {"optimum": 0.0065, "front 3": 0.0042}, {"optimum": 0.0059})
     rules = FootRules(
         film_limit=film.radius,
         swing_clearance=0.009,
@@ -110,12 +113,17 @@ def test_front_members_show_each_trade_and_the_film_verdict():
         landing_hold=0.25,
         body_acc_limit=9.81,
     )
-    out = front_members(sims, T3, rules, film)
+    out = front_members(sims, T3, rules, film, films)
     first, other = out["members"]
     assert first["optimum"] and first["row"] == 7 and first["film_safe"]
+    assert first["min_bend_radius_on_check_film"] == 0.0059
+    assert first["film_safe_on_check_film"] is False
     assert other["row"] == 3 and not other["film_safe"]
+    assert other["film_safe_on_check_film"] is None  # not simulated on the check film
+    assert films.as_dict()["keeps_fc_only_at_nodes"] == ["optimum"]
+    assert films.as_dict()["missing"] == ["front 3"]
     assert other["landing_pre_pressure_error"] == pytest.approx(1.0)
-    assert out["film_safe_fraction"] == 0.5 and out["film_limit"]["limit"] == 0.0015
+    assert out["film_safe_fraction"] == 0.5 and out["film_limit"]["limit"] == 0.006
     assert first["lets_go"] and not other["lets_go"] and out["lets_go_fraction"] == 0.5
     assert other["release_fault"] == "the pad never let go"
     assert first["lands"] and not other["lands"] and out["lands_fraction"] == 0.5  # 5.5 / 4.0 N

@@ -21,9 +21,15 @@ def bench(
     robot: dict | None = None,
     solver: dict | None = None,
     leg_model: str = "lumped",
+    film: dict | None = None,
 ) -> Bench:
     r = params.selected_robot
-    mech = r.platform.model_copy(update={"foot": r.platform.foot.model_copy(update=foot or {})})
+    mech = r.platform.model_copy(
+        update={
+            "foot": r.platform.foot.model_copy(update=foot or {}),
+            "film": r.platform.film.model_copy(update=film or {}),
+        }
+    )
     r = r.model_copy(update={"platform": mech, **(robot or {})})
     acquire = params.acquire.model_copy(
         update={

@@ -30,18 +30,20 @@ def _model(strength: float, energy: float, failing=()):
     return run_all
 
 
-def _fit(monkeypatch, params, true=TRUE, failing=(), max_opening=5e-3):
+BOUNDS = {"strength": (5e3, 1e5), "fracture_energy": (5.0, 500.0)}
+
+
+def _fit(monkeypatch, params, true=TRUE, failing=(), cap=None, bounds=BOUNDS, start=START):
     run_all = _model(true["strength"], true["fracture_energy"], failing)
     monkeypatch.setattr(cal, "run_all", run_all)
     # a fixed start, so the test does not follow the repository's calibrated values
-    surface = params.surfaces["acrylic"].model_copy(update=START)
-    bounds = {"strength": (5e3, 1e5), "fracture_energy": (5.0, 500.0)}
+    surface = params.surfaces["acrylic"].model_copy(update=start)
     return cal.calibrate(
         surface,
         lambda trial: [(name, trial) for name in cal.TABLE_I],
         bounds,
         max_evaluations=200,
-        max_critical_opening=max_opening,
+        max_fracture_energy=cap,
     )
 
 
@@ -53,19 +55,35 @@ def test_the_fit_recovers_the_surface_that_reproduces_table_i(monkeypatch, param
     assert set(fit.residuals) == {f"{n}.{q}" for n, t in cal.TABLE_I.items() for q in t}
     assert fit.evaluations == len(fit.history) > 3
     assert fit.measured["polynomial"]["peak_detachment"] == pytest.approx(7.49, rel=0.01)
+    assert fit.active == {}  # inside every bound: Table I decided each value
 
 
-def test_the_critical_opening_caps_the_fracture_energy(monkeypatch, params):
-    """Table I wants G = 80 J/m^2 here, but 2 G / sigma may not exceed 2 mm: G <= 20 at 20 kPa."""
-    fit = _fit(monkeypatch, params, {"strength": 20000.0, "fracture_energy": 80.0}, (), 2e-3)
-    for trial in fit.history:
-        assert trial["fracture_energy"] <= trial["strength"] * 2e-3 / 2 * (1 + 1e-12)
+def test_the_fracture_energy_cap_holds_and_the_fit_says_it_sits_on_it(monkeypatch, params):
+    """Table I wants G = 80 J/m^2 here, but the film's survival caps it at 50."""
+    fit = _fit(monkeypatch, params, {"strength": 20000.0, "fracture_energy": 80.0}, (), 50.0)
+    assert all(trial["fracture_energy"] <= 50.0 for trial in fit.history)
+    assert fit.values["fracture_energy"] == pytest.approx(50.0)
+    assert fit.active == {"fracture_energy": "fracture-energy cap"}
     assert fit.worst > 0.05  # the capped surface cannot meet Table I
+
+
+def test_a_held_value_stays_and_a_bound_that_stops_the_fit_is_named(monkeypatch, params):
+    """Strength alone, bounded below the 20 kPa Table I wants, with G held at its true 40."""
+    bounds = {"strength": (5e3, 1.5e4)}
+    start = {"strength": 1.2e4, "fracture_energy": 40.0}
+    fit = _fit(monkeypatch, params, TRUE, (), None, bounds, start)
+    assert set(fit.values) == {"strength"} and fit.values["strength"] == pytest.approx(1.5e4)
+    assert all(set(trial) == {"strength", "cost"} for trial in fit.history)
+    assert fit.active == {"strength": "upper bound"}
 
 
 def test_a_failed_baseline_measures_zero_force(monkeypatch, params):
     fit = _fit(monkeypatch, params, TRUE, ("cycloidal",))
-    assert fit.measured["cycloidal"] == {"peak_detachment": 0.0, "peak_pre_pressure": 0.0}
+    assert fit.measured["cycloidal"] == {
+        "peak_detachment": 0.0,
+        "peak_pre_pressure": 0.0,
+        "min_bend_radius": 0.0,
+    }
     assert fit.residuals["cycloidal.peak_detachment"] == -1.0 and fit.worst == 1.0
 
 
@@ -85,10 +103,10 @@ def test_ftfof_calibrate_simulates_the_polynomial_and_the_cycloid_only(monkeypat
 
     seen = []
 
-    def fake_calibrate(surface, specs_for, bounds, workers, evaluations):
+    def fake_calibrate(surface, specs_for, bounds, workers, evaluations, cap):
         seen.extend(spec.source for spec in specs_for(surface))
         return SimpleNamespace(
-            values={}, residuals={}, measured={}, worst=0.0, evaluations=0, history=[]
+            values={}, residuals={}, measured={}, worst=0.0, evaluations=0, history=[], active={}
         )
 
     monkeypatch.setattr(cal, "calibrate", fake_calibrate)

@@ -65,8 +65,21 @@ def test_metrics_table_and_controller_export(evaluated):
     front = metrics["front_simulated"]
     assert len(front["members"]) == 3 and front["members"][0]["optimum"]
     assert front["film_safe_fraction"] == pytest.approx(
-        sum(m["min_bend_radius"] >= front["film_limit"]["limit"] for m in front["members"]) / 3
+        sum(m["min_bend_radius"] >= front["film_limit"]["limit"] for m in front["members"]) / 3,
+        abs=1e-4,
     )
+    assert front["film_limit"]["limit"] == front["film_limit"]["fc"] == 0.006
+    for row in table.values():  # every row of the table says how tightly it bends the film
+        assert row["min_bend_radius"] > 0
+    # every run again on the check film: the optimum, the front members and Table I's rows
+    films = metrics["film_check"]
+    assert films["nodes"] == 40 and films["check_nodes"] == 80 and not films["missing"]
+    assert set(films["radius"]) == {*ROWS, *(f"front {m['row']}" for m in front["members"][1:])}
+    for m in front["members"]:
+        assert (
+            m["min_bend_radius_on_check_film"]
+            == films["radius"]["optimum" if m["optimum"] else f"front {m['row']}"][1]
+        )
     for row in table.values():  # the detachment-window jitter never exceeds the whole run's peak
         assert 0 < row["jitter"] <= row["peak_body_acc"] + 1e-9
     assert metrics["seconds"] > 0

@@ -86,6 +86,22 @@ def test_a_check_step_not_finer_than_the_acquisition_step_is_named(tmp_path, par
     assert "evaluate.check_step: 0.0005 s is not finer than acquire.solver.step" in msg
 
 
+def test_a_check_film_not_finer_than_the_acquisition_film_is_named(tmp_path, params_dict):
+    params_dict["evaluate"]["check_nodes"] = params_dict["acquire"]["solver"]["nodes"]
+    msg = _error(tmp_path, params_dict)
+    assert "evaluate.check_nodes: 40 film elements are not finer than acquire.solver.nodes" in msg
+
+
+def test_a_film_too_thick_to_survive_its_fc_is_named(tmp_path, params_dict):
+    """PET 250 um strains its outer fibre 2.08 % at fc = 6 mm, past its 2 % yield."""
+    params_dict["robots"]["mst_m3f"]["platform"]["film"]["thickness"] = 0.00025
+    msg = _error(tmp_path, params_dict)
+    assert (
+        "robots.mst_m3f: platform.film.thickness 250 um bent to foot.film_min_bend_radius 6 mm"
+        " strains its outer fibre 2.08 %, past platform.film.yield_strain 2 %" in msg
+    )
+
+
 def test_unordered_timing_is_named(tmp_path, params_dict):
     params_dict["robots"]["mst_q"]["timing"] = {"T1": 0.5, "T2": 0.4, "T3": 1.0}
     assert "robots.mst_q.timing: must satisfy T1 < T2 < T3" in _error(tmp_path, params_dict)

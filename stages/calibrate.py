@@ -21,6 +21,7 @@ from stages.common import ParamsOption, console, stage
 
 REPORT = Path("reports/calibration.json")
 COMMENT = "# fitted by ftfof calibrate (reports/calibration.json)"
+HELD = "# held by ftfof calibrate --fix (reports/calibration.json)"
 
 
 @stage
@@ -54,8 +55,9 @@ def command(
     if write_params:
         edit_params(
             params_path,
-            lambda document: update_surface(
-                document, params.surface, {**fit["fixed"], **fit["values"]}
+            lambda document: (
+                update_surface(document, params.surface, fit["fixed"], HELD),
+                update_surface(document, params.surface, fit["values"]),
             ),
         )
         console.print(f"wrote the fit into {params_path}")
@@ -64,7 +66,8 @@ def command(
 def show(fit: dict[str, Any]) -> None:
     """The fit in a few lines: values (and the bound or cap each sits on), residuals, the film."""
     for name, value in fit["fixed"].items():
-        console.print(f"  {name:18s} {value:.6g}  (fixed)")
+        on = fit["active"].get(name)
+        console.print(f"  {name:18s} {value:.6g}  (fixed{f', {on.upper()}' if on else ''})")
     for name, value in fit["values"].items():
         lo, hi = fit["bounds"][name]
         on = fit["active"].get(name)
@@ -76,21 +79,25 @@ def show(fit: dict[str, Any]) -> None:
     console.print(
         f"  critical opening 2G/sigma {1e3 * film['critical_opening']:.2f} mm; peel-root radius "
         f"{1e3 * film['peel_root_radius']:.2f} mm against fc {1e3 * film['fc']:.1f} mm "
-        f"(G cap {fit['fracture_energy_cap']:.1f} J/m^2: the film survives a steady peel at fc)"
+        f"(G cap {fit['fracture_energy_cap']:.1f} J/m^2: a quasi-static sharp-crack peel's "
+        "root at fc)"
     )
     for name, b in film["baselines"].items():
-        if b["clamp_edge_radius_at_90deg"] is None:
+        if b["clamp_edge_radius_if_pulled_at_90deg"] is None:
+            console.print(f"  {name}: the run failed, no film measured")
             continue
         console.print(
             f"  {name}: film bent to {1e3 * b['min_bend_radius']:.2f} mm; its "
-            f"{b['peak_pull']:.2f} N peak bends the clamp edge to "
-            f"{1e3 * b['clamp_edge_radius_at_90deg']:.2f} mm at 90 deg, keeps fc up to "
+            f"{b['peak_pull']:.2f} N peak pull would bend the clamp edge to "
+            f"{1e3 * b['clamp_edge_radius_if_pulled_at_90deg']:.2f} mm at 90 deg, keeps fc up to "
             f"{b['max_angle_keeping_fc_deg']:.0f} deg"
         )
 
 
-def update_surface(document: Any, surface: str, values: dict[str, float]) -> None:
-    """Set ``surfaces.<surface>.<name>`` in a round-trip document, each with the fit's comment."""
+def update_surface(
+    document: Any, surface: str, values: dict[str, float], comment: str = COMMENT
+) -> None:
+    """Set ``surfaces.<surface>.<name>`` in a round-trip document, each with ``comment``."""
     from ftfof.pipeline.params_file import yaml_float
 
     block = document.get("surfaces", {}).get(surface)
@@ -104,7 +111,7 @@ def update_surface(document: Any, surface: str, values: dict[str, float]) -> Non
         # two spaces before the comment, wherever an earlier comment of the key stood
         column = block.lc.col + len(f"{name}: {yaml_float(block[name])}") + 2
         below = _comment_lines_below(block, name)
-        block.yaml_add_eol_comment(COMMENT, name, column=column)
+        block.yaml_add_eol_comment(comment, name, column=column)
         if below:  # ruamel keeps the full-line comments under a key in its end-of-line comment
             block.ca.items[name][2].value += "\n" + below
 

@@ -118,7 +118,8 @@ def checked_on_both_films(
         return None
 
     def radii(df: pd.DataFrame) -> dict[str, float]:
-        ok = df[df.status == "ok"]
+        """Successful runs that peeled (no free span: an infinite radius, nothing to compare)."""
+        ok = df[(df.status == "ok") & np.isfinite(df.min_bend_radius.astype(float))]
         return {
             run_name(r.source, int(r.sample_id)): float(r.min_bend_radius) for r in ok.itertuples()
         }
@@ -220,9 +221,9 @@ def front_members(
         )
 
     def fraction(key: str) -> float | None:
-        """Over the members that have ``key`` (a member not run on the check film has None)."""
-        have = [m[key] for m in members if m.get(key) is not None]
-        return round(float(np.mean(have)), 4) if have else None
+        """Over every member; one without a verdict (no run on the check film) counts as not
+        verified."""
+        return round(float(np.mean([bool(m[key]) for m in members])), 4) if members else None
 
     return {
         "members": members,

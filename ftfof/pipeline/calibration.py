@@ -50,18 +50,22 @@ def _number(option: str, key: str, text: str) -> float:
 
 def parse_fixes(texts: Iterable[str]) -> dict[str, float]:
     """``--fix key=value``: surface values held, not fitted."""
-    out = {}
+    out: dict[str, float] = {}
     for text in texts:
         key, value = _pair("--fix", text)
+        if key in out:
+            raise ParamsError(f"--fix {key}", "is given twice")
         out[key] = _number("--fix", key, value)
     return out
 
 
 def parse_bounds(texts: Iterable[str]) -> dict[str, tuple[float, float]]:
     """``--bound key=lo:hi``: the range a fitted value may take."""
-    out = {}
+    out: dict[str, tuple[float, float]] = {}
     for text in texts:
         key, value = _pair("--bound", text)
+        if key in out:
+            raise ParamsError(f"--bound {key}", "is given twice")
         lo_text, sep, hi_text = value.partition(":")
         if not sep:
             raise ParamsError(f"--bound {key}", f"{value!r} is not lo:hi")
@@ -103,17 +107,18 @@ def film_report(params: Params, surface: Surface, measured: dict[str, dict[str, 
     ei, g = f.bending_stiffness, surface.fracture_energy
     baselines = {}
     for name, m in measured.items():
-        pull = m["peak_detachment"]
+        pull = m["peak_pull"]  # the resultant: the film's tension at the clamp
+        ran = pull is not None and pull > 0
         baselines[name] = {
-            "min_bend_radius": m["min_bend_radius"],  # measured on the free span
+            "min_bend_radius": m["min_bend_radius"],  # measured on the free span; None: failed
             "peak_pull": pull,
-            # elastica at the clamp edge: the radius under the peak pull at 90 deg to the clamp,
-            # and the largest angle between film and pull that keeps fc at that pull
-            "clamp_edge_radius_at_90deg": film.clamp_edge_radius(ei, pull, math.pi / 2)
-            if pull > 0
+            # elastica at the clamp edge, were the peak pull at 90 deg to the film in the clamp
+            # (a hypothetical case: the bound's size), and the largest such angle keeping fc
+            "clamp_edge_radius_if_pulled_at_90deg": film.clamp_edge_radius(ei, pull, math.pi / 2)
+            if ran
             else None,
             "max_angle_keeping_fc_deg": math.degrees(film.max_pull_angle(ei, pull, fc))
-            if pull > 0
+            if ran
             else None,
         }
     return {
@@ -154,6 +159,9 @@ def fit_surface(
     )
     fit = calibrate(start, specs_for, fitted, params.acquire.workers, evaluations, cap)
     surface = start.model_copy(update=fit.values)
+    active = dict(fit.active)
+    if fixed.get("fracture_energy", 0.0) > cap:  # held there by hand: the report says so
+        active["fracture_energy"] = "fixed above the fracture-energy cap"
     return {
         "surface": params.surface,
         "robot": ctx.name,
@@ -162,7 +170,7 @@ def fit_surface(
         "fixed": fixed,
         "bounds": {k: list(v) for k, v in fitted.items()},
         "fracture_energy_cap": cap,
-        "active": fit.active,
+        "active": active,
         "residuals": fit.residuals,
         "measured": fit.measured,
         "worst_relative_error": fit.worst,

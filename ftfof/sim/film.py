@@ -143,18 +143,22 @@ def peel_root_radius(bending_stiffness: float, width: float, fracture_energy: fl
 def survival_energy(bending_stiffness: float, width: float, fc: float) -> float:
     """The largest fracture energy whose steady peel keeps the film at fc, EI / (2 b fc^2).
 
-    The peel-root radius sqrt(EI / 2bG) does not depend on the path, so a film that survives its
-    adhesive's peels at fc and no tighter (the paper's tested film, as thick as fc allows) bounds
-    the adhesive's quasi-static G by this.
+    A sharp-crack, quasi-static bound: the peel-root radius sqrt(EI / 2bG) does not depend on
+    the path, so a film that survives its adhesive's peels at fc bounds the adhesive's G by
+    this. The simulator's cohesive zone (an opening of millimetres) bends the film less than the
+    sharp crack, its rate factor more (docs/decisions/0013-fracture-energy-cap.md).
     """
     return bending_stiffness / (2.0 * width * fc**2)
 
 
 def clamp_edge_radius(bending_stiffness: float, pull: float, angle: float) -> float:
-    """The film's bend radius at the clamp edge under ``pull`` at ``angle`` (rad) to the clamp.
+    """The film's bend radius at the clamp edge under ``pull`` at ``angle`` (rad) between the
+    film's tangent in the clamp and the pull.
 
     Elastica of the free span between clamp and peel front: the moment at the clamp edge is
-    sqrt(2 EI F (1 - cos phi)), so the curvature there is sqrt(2 F (1 - cos phi) / EI).
+    sqrt(2 EI F (1 - cos phi)), so the curvature there is sqrt(2 F (1 - cos phi) / EI). It
+    assumes a span much longer than sqrt(EI / F) (about 4 mm at 7 N for the 240 um film), which
+    the peel's first millimetre is not: a bound's size, not the simulator's measure.
     """
     return math.sqrt(bending_stiffness / (2.0 * pull * (1.0 - math.cos(angle))))
 

@@ -33,6 +33,8 @@ def test_a_fixed_value_leaves_the_fit_and_a_bound_replaces_the_default_range():
         (["strength=3e4"], ["strength=1e4:1e5"], "none", "--bound strength: is also fixed"),
         (["strength=3e4", "fracture_energy=60"], [], "none", "--fix: holds every parameter"),
         ([], [], "colour", "--third: cannot fit 'colour'"),
+        (["strength=3e4", "strength=4e4"], [], "none", "--fix strength: is given twice"),
+        ([], ["strength=1:2", "strength=1:3"], "none", "--bound strength: is given twice"),
     ],
 )
 def test_a_bad_key_or_range_is_one_error_naming_it(fixes, bounds, third, message):

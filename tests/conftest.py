@@ -137,7 +137,10 @@ def trained(tmp_path_factory, raw_params):
     data["dataset"] = {**raw_params["dataset"], "seq_len": 24}
     # as in profiles/tiny.yaml: a surrogate this small predicts no landing within 10 % of a, and
     # a retouch everywhere; trained on 30 fake records, it cannot place the body limit either
-    # (with it, every row of the tiny front was refused on the 2026-11-25 environment)
+    # (with it, every row of the tiny front was refused on the 2026-11-25 environment), nor the
+    # film: a peak GP of the curvature on 30 fake records called every row of a refine round's
+    # front too bent, so the film constraint reads the GRU here (the peak GPs of Fp and jitter
+    # keep that code path covered)
     m3f = {
         **raw_params["robots"]["mst_m3f"],
         "landing_tolerance": None,
@@ -152,6 +155,7 @@ def trained(tmp_path_factory, raw_params):
         "epochs": 2,
         "batch": 16,
         "losses": ["dilate", "mse"],
+        "peaks": ["Fp", "jitter"],
     }
     params = write_params(tmp / "params.yaml", data)
     (tmp / "acq").mkdir()

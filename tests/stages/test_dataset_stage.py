@@ -160,11 +160,22 @@ def test_simulated_samples_exported_as_logs_and_imported_back_give_the_same_rows
     for name in ("x", "z", "vx", "vz"):
         sa, sb = series(a, name), series(b, name)
         np.testing.assert_allclose(sb, sa, atol=1e-4 * np.abs(sa).max(), err_msg=name)
+
     # A log has no switch: its windows end where the pull falls below 5 % of its peak, not at
-    # the switch, so the series differ at the window edges; the peaks the objectives read agree.
+    # the switch, so the series differ at the window edges; the peaks the objectives read agree
+    # for a pad that lets go. One that bonds again before the switch (a sample here drags its
+    # re-bonded pad to a 16 N pull at 0.6 s) has its detachment window run on to the switch,
+    # which a log cannot see.
+    def lets_go(r) -> bool:
+        """No bond forms again between the trajectory's start and the switch."""
+        t, bonds = r.channels["t"], r.channels["bonds"]
+        return bool(np.all(np.diff(bonds[(t >= 0) & (t <= r.scalars["switch_time"])]) <= 0))
+
+    let_go = np.array([lets_go(r) for r in results])
+    assert let_go.sum() >= 3
     for name in ("pull", "Fd", "Fp"):
         sa, sb = series(a, name).max(axis=1), series(b, name).max(axis=1)
-        np.testing.assert_allclose(sb, sa, rtol=1e-3, atol=1e-3, err_msg=name)
+        np.testing.assert_allclose(sb[let_go], sa[let_go], rtol=1e-3, atol=1e-3, err_msg=name)
     for name in ("body_acc", "curvature"):  # no IMU and no film channel in a force log
         assert np.isnan(series(b, name)).all(), name
 

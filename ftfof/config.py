@@ -274,8 +274,8 @@ class Robot(Strict):
     @model_validator(mode="after")
     def _film_survives_its_fc(self) -> Robot:
         film, fc = self.platform.film, self.foot.film_min_bend_radius
-        strain = film.thickness / (2.0 * fc)
-        if strain > film.yield_strain * (1.0 + 1e-9):  # t = 2 fc eps_y exactly is allowed
+        if film.yield_radius() > fc * (1.0 + 1e-9):  # t = 2 fc eps_y exactly is allowed
+            strain = film.thickness / (2.0 * fc)
             raise ValueError(
                 f"platform.film.thickness {1e6 * film.thickness:g} um bent to"
                 f" foot.film_min_bend_radius {1e3 * fc:g} mm strains its outer fibre"

@@ -213,14 +213,18 @@ def _job(
 def with_step(spec: SampleSpec, step: float) -> SampleSpec:
     """``spec`` simulated with every solver step ``step`` (a change of step within a run
     disturbs the body), its source and key prefixed ``FINE`` (the same sensor-noise seed)."""
-    solver = spec.solver.model_copy(update={"step": step, "free_step": step})
-    return replace(spec, key=FINE + spec.key, source=FINE + spec.source, solver=solver)
+    return _variant(spec, FINE, step=step, free_step=step)
 
 
 def with_nodes(spec: SampleSpec, nodes: int) -> SampleSpec:
     """``spec`` on a film of ``nodes`` elements, its source and key prefixed ``FILM``."""
-    solver = spec.solver.model_copy(update={"nodes": nodes})
-    return replace(spec, key=FILM + spec.key, source=FILM + spec.source, solver=solver)
+    return _variant(spec, FILM, nodes=nodes)
+
+
+def _variant(spec: SampleSpec, prefix: str, **solver: float) -> SampleSpec:
+    """``spec`` with ``solver`` settings changed, its source and key prefixed ``prefix``."""
+    changed = spec.solver.model_copy(update=solver)
+    return replace(spec, key=prefix + spec.key, source=prefix + spec.source, solver=changed)
 
 
 def front_specs(

@@ -121,8 +121,8 @@ def calibrate(
     start = from_x(to_x(np.array([getattr(surface, n) for n in names], dtype=float)))
     x0 = to_x(start)  # the surface's values within the bounds and the cap
     steps = np.where(logs, 0.3, 0.15)
-    on_cap = max_fracture_energy is not None and i_energy is not None
-    if on_cap and start[i_energy] >= max_fracture_energy * (1 - AT_BOUND):
+    capped = max_fracture_energy is not None and i_energy is not None
+    if capped and start[i_energy] >= max_fracture_energy * (1 - AT_BOUND):
         steps[i_energy] *= -1  # a start on the cap: step below it, or the vertex is the start
     simplex = np.vstack([x0] + [x0 + np.eye(len(names))[i] * steps[i] for i in range(len(names))])
     result = minimize(

@@ -30,7 +30,7 @@ def command(
     limit: Annotated[int | None, typer.Option(help="Only the first N sampled rows.")] = None,
 ) -> None:
     """Simulate the force-acquisition platform for every trajectory (resumable)."""
-    from ftfof.pipeline.io import write_json
+    from ftfof.files import write_json
     from ftfof.pipeline.jobs import FINAL, Acquisition
     from ftfof.pipeline.params_file import load_params
 

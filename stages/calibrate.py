@@ -15,8 +15,8 @@ from typing import Annotated, Any
 import typer
 
 from ftfof.errors import ParamsError
+from ftfof.files import write_json
 from ftfof.pipeline.calibration import FITTABLE, THIRD_BOUNDS
-from ftfof.pipeline.io import write_json
 from stages.common import ParamsOption, console, stage
 
 REPORT = Path("reports/calibration.json")

@@ -1,7 +1,7 @@
 """What every command shares: the params option and the error contract.
 
 The contract: every anticipated failure becomes one line on stderr naming what is wrong and where,
-with a non-zero exit. Outputs are written all or nothing by :mod:`ftfof.pipeline.io`.
+with a non-zero exit. Outputs are written all or nothing by :mod:`ftfof.files`.
 """
 
 from __future__ import annotations

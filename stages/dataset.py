@@ -29,8 +29,8 @@ def command(
     """Resample every ok sample to fixed-length sequences, split 85/15, normalise on train."""
     import pyarrow.parquet as pq
 
+    from ftfof.files import atomic_dir, save_figure, write_json
     from ftfof.pipeline.dataset import build
-    from ftfof.pipeline.io import atomic_dir, save_figure, write_json
     from ftfof.pipeline.params_file import load_params
 
     built = build(load_params(params_path), acquisition, imported)

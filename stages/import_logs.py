@@ -32,7 +32,7 @@ def command(
     from ftfof.data.acquisition import to_table
     from ftfof.data.logs import parse
     from ftfof.errors import DataError
-    from ftfof.pipeline.io import write_parquet
+    from ftfof.files import write_parquet
     from ftfof.pipeline.params_file import load_params
 
     params = load_params(params_path)

@@ -8,7 +8,7 @@ from typing import Annotated
 
 import typer
 
-from ftfof.pipeline.io import write_json, write_parquet
+from ftfof.files import write_json, write_parquet
 from stages.common import ParamsOption, console, progress, stage
 
 OUT = Path("data/trajectories.parquet")

@@ -7,7 +7,7 @@ from typing import Annotated
 
 import typer
 
-from ftfof.pipeline.io import atomic_path, save_figure
+from ftfof.files import atomic_path, save_figure
 from stages.common import ParamsOption, console, stage
 
 OUT_DIR = Path("reports/simulate")
@@ -35,8 +35,8 @@ def command(
 
     from ftfof.data.schema import TRAJECTORIES
     from ftfof.errors import ParamsError
+    from ftfof.files import read_table
     from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, parse_points
-    from ftfof.pipeline.io import read_table
     from ftfof.pipeline.params_file import load_params
     from ftfof.report.figures import sample_figure
     from ftfof.robot import robot_context

@@ -26,7 +26,7 @@ def command(
     pred_plot: Annotated[Path, typer.Option(help="Predicted vs measured (Fig. 9).")] = PRED_PLOT,
 ) -> None:
     """Train trajectory -> force GRUs with DILATE (and MSE for comparison); log to MLflow."""
-    from ftfof.pipeline.io import save_figure, write_json
+    from ftfof.files import save_figure, write_json
     from ftfof.pipeline.machine import describe
     from ftfof.pipeline.params_file import load_params
     from ftfof.pipeline.training import track, train_all

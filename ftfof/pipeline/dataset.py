@@ -16,9 +16,9 @@ import pyarrow as pa
 from ftfof.config import Params
 from ftfof.data import dataset
 from ftfof.data.acquisition import ACQUISITION
+from ftfof.digests import json_sha256
 from ftfof.errors import DataError
-from ftfof.pipeline.digests import json_sha256
-from ftfof.pipeline.io import read_table
+from ftfof.files import read_table
 from ftfof.pipeline.jobs import MANIFEST, versions
 from ftfof.seeds import seed_for
 

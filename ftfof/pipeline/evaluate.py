@@ -14,6 +14,7 @@ import numpy as np
 import pyarrow.parquet as pq
 
 from ftfof.config import Params
+from ftfof.digests import models_digest, optimum_digest
 from ftfof.errors import DataError
 from ftfof.evaluate.film_check import FILM
 from ftfof.evaluate.run import (
@@ -29,11 +30,10 @@ from ftfof.evaluate.run import (
     front_sample,
 )
 from ftfof.evaluate.step_check import FINE
+from ftfof.files import atomic_path, write_json
 from ftfof.pipeline import tracking
 from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench
 from ftfof.pipeline.console import console
-from ftfof.pipeline.digests import models_digest, optimum_digest
-from ftfof.pipeline.io import atomic_path, write_json
 from ftfof.pipeline.jobs import FINAL, Acquisition
 from ftfof.robot import RobotContext, robot_context
 from ftfof.sim.spec import Bench, SampleSpec

@@ -25,11 +25,11 @@ import ftfof
 from ftfof.config import Params
 from ftfof.data.acquisition import ACQUISITION, PENDING, to_table
 from ftfof.data.schema import TRAJECTORIES
+from ftfof.digests import bytes_sha256, file_sha256, json_sha256, tree_sha256
 from ftfof.errors import DataError, SimulationError
+from ftfof.files import atomic_path, read_table, write_json, write_parquet
 from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench
 from ftfof.pipeline.console import progress
-from ftfof.pipeline.digests import bytes_sha256, file_sha256, json_sha256, tree_sha256
-from ftfof.pipeline.io import atomic_path, read_table, write_json, write_parquet
 from ftfof.robot import RobotContext, robot_context
 from ftfof.sim import pool
 from ftfof.sim.film import FilmLimit, film_limit

@@ -14,6 +14,8 @@ import numpy as np
 import pyarrow.parquet as pq
 
 from ftfof.config import Optimize, Params
+from ftfof.digests import models_digest, optimum_digest
+from ftfof.files import atomic_dir, atomic_path, save_figure, write_json
 from ftfof.optimize.problem import PhysicalLimits, TrajectoryProblem
 from ftfof.optimize.search import (
     ConvergenceRecord,
@@ -31,8 +33,6 @@ from ftfof.optimize.select import (
 )
 from ftfof.pipeline import tracking
 from ftfof.pipeline.console import console
-from ftfof.pipeline.digests import models_digest, optimum_digest
-from ftfof.pipeline.io import atomic_dir, atomic_path, save_figure, write_json
 from ftfof.pipeline.registry import RegisteredWeights, fetch_model
 from ftfof.pipeline.simcheck import simulator_check
 from ftfof.robot import RobotContext, robot_context

@@ -15,7 +15,7 @@ from pydantic_core import ErrorDetails
 
 from ftfof.config import LEG_TYPES, Params
 from ftfof.errors import ParamsError
-from ftfof.pipeline.io import atomic_path
+from ftfof.files import atomic_path
 
 T = TypeVar("T")
 

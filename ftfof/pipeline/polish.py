@@ -20,15 +20,15 @@ from typing import Any
 import numpy as np
 
 from ftfof.config import Params
+from ftfof.digests import bytes_sha256, models_digest, optimum_digest
 from ftfof.evaluate.run import Inputs, decision
+from ftfof.files import atomic_dir, write_json
 from ftfof.optimize.polish import POLISH, Polished, polish
 from ftfof.optimize.search import SearchSettings
 from ftfof.optimize.select import Outcome, SimulatorCheck, Verdict, fine_policy, rhs_on_verdicts
 from ftfof.pipeline import tracking
 from ftfof.pipeline.console import console
-from ftfof.pipeline.digests import bytes_sha256, models_digest, optimum_digest
 from ftfof.pipeline.evaluate import POLISH_READS, check_models, read_inputs
-from ftfof.pipeline.io import atomic_dir, write_json
 from ftfof.pipeline.jobs import close_resumable, open_resumable
 from ftfof.robot import RobotContext, robot_context
 from ftfof.seeds import seed_for

@@ -38,6 +38,7 @@ from ftfof.data import dataset as ds
 from ftfof.data import targets
 from ftfof.data.acquisition import ACQUISITION
 from ftfof.data.refinement import grow, round_rows
+from ftfof.digests import file_sha256, json_sha256, models_digest, optimum_digest
 from ftfof.errors import DataError, SimulationError
 from ftfof.evaluate.fidelity import Fidelity, relative_error, simulated_objectives, target_met
 from ftfof.evaluate.run import (
@@ -50,13 +51,12 @@ from ftfof.evaluate.run import (
     judged_front,
     simulated_rows,
 )
+from ftfof.files import atomic_dir, read_table, save_figure, write_json
 from ftfof.optimize.select import FRONT, Nominees, rhs_ranking
 from ftfof.pipeline import tracking
 from ftfof.pipeline.bench import bench
 from ftfof.pipeline.console import console
-from ftfof.pipeline.digests import file_sha256, json_sha256, models_digest, optimum_digest
 from ftfof.pipeline.evaluate import check_models, front_specs, read_inputs
-from ftfof.pipeline.io import atomic_dir, read_table, save_figure, write_json
 from ftfof.pipeline.jobs import FINAL, Acquisition, close_resumable, open_resumable
 from ftfof.robot import RobotContext, robot_context
 from ftfof.seeds import seed_for

@@ -18,8 +18,8 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
+from ftfof.digests import file_sha256
 from ftfof.errors import DataError
-from ftfof.pipeline.digests import file_sha256
 from ftfof.surrogate.store import PEAKS, weights_file
 
 

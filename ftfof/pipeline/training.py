@@ -16,9 +16,9 @@ from typing import Any
 import numpy as np
 
 from ftfof.config import Params, Train
+from ftfof.digests import models_digest
 from ftfof.errors import DataError
 from ftfof.pipeline import tracking
-from ftfof.pipeline.digests import models_digest
 from ftfof.pipeline.registry import model_name, weights_tags
 from ftfof.seeds import seed_for
 from ftfof.stats import rank_rho

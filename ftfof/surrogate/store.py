@@ -21,9 +21,9 @@ import pyarrow.parquet as pq
 
 from ftfof.config import Train
 from ftfof.data import dataset, refinement
+from ftfof.digests import bytes_sha256
 from ftfof.errors import DataError
-from ftfof.pipeline.digests import bytes_sha256
-from ftfof.pipeline.io import atomic_dir, read_table
+from ftfof.files import atomic_dir, read_table
 from ftfof.surrogate.peaks import PeakPredictor, peak_model_from_dict
 from ftfof.surrogate.predict import GRUWeights, Surrogate
 from ftfof.trajectory.bezier import DECISION_NAMES

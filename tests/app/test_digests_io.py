@@ -9,8 +9,7 @@ from pathlib import Path
 import pyarrow as pa
 import pytest
 
-from ftfof.errors import DataError
-from ftfof.pipeline.digests import (
+from ftfof.digests import (
     bytes_sha256,
     file_sha256,
     files_sha256,
@@ -18,7 +17,8 @@ from ftfof.pipeline.digests import (
     models_digest,
     optimum_digest,
 )
-from ftfof.pipeline.io import atomic_dir, atomic_path, read_table, write_json
+from ftfof.errors import DataError
+from ftfof.files import atomic_dir, atomic_path, read_table, write_json
 
 
 def test_digests_are_sha256_hex_cut_to_length(tmp_path: Path):

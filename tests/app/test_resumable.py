@@ -7,8 +7,8 @@ from pathlib import Path
 
 import pytest
 
+from ftfof.digests import tree_sha256
 from ftfof.pipeline import jobs
-from ftfof.pipeline.digests import tree_sha256
 
 
 def test_tree_digest_names_files_by_relative_path_and_bytes(tmp_path: Path):

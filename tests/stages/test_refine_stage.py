@@ -11,9 +11,9 @@ import pyarrow.parquet as pq
 import pytest
 from typer.testing import CliRunner
 
+from ftfof.digests import models_digest
 from ftfof.pipeline import refine as refine_run
 from ftfof.pipeline import training
-from ftfof.pipeline.digests import models_digest
 from ftfof.pipeline.jobs import Acquisition
 from ftfof.trajectory.bezier import DECISION_NAMES, same_trajectory
 from stages.cli import app

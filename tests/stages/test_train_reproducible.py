@@ -9,8 +9,8 @@ import sys
 
 import pytest
 
+from ftfof.digests import file_sha256
 from ftfof.pipeline import machine
-from ftfof.pipeline.digests import file_sha256
 from tests.conftest import ROOT
 
 COMMITTED = ROOT / "tests" / "data" / "model_digests.json"

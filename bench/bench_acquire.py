@@ -16,8 +16,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from ftfof.pipeline.bench import context_of
 from ftfof.pipeline.params_file import load_params
-from ftfof.robot import robot_context
 from ftfof.seeds import seed_for
 from ftfof.sim import pool
 from ftfof.sim.film import film_limit
@@ -31,7 +31,7 @@ def main(n: int) -> None:
     tune_allocator()
     root = Path(__file__).resolve().parents[1]
     params = load_params(root / "params.yaml")
-    ctx = robot_context(params)
+    ctx = context_of(params)
     bench = Bench(
         ctx.robot, params.selected_surface, params.platform, params.acquire, params.base.seed
     )

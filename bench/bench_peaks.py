@@ -20,8 +20,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from bench.common import best_of, row
+from ftfof.pipeline.bench import context_of
 from ftfof.pipeline.params_file import load_params
-from ftfof.robot import robot_context
 from ftfof.surrogate.peaks import NearFront
 from ftfof.surrogate.store import load_surrogate
 
@@ -29,7 +29,7 @@ from ftfof.surrogate.store import load_surrogate
 def main(population: int, models: str) -> None:
     root = Path(__file__).resolve().parents[1]
     params = load_params(root / "params.yaml")
-    policy = robot_context(params).policy
+    policy = context_of(params).policy
     surrogate = load_surrogate(root / models)
     if not surrogate.peaks:
         raise SystemExit(f"the models in {models} have no peak models (train.peaks)")

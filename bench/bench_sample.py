@@ -20,7 +20,7 @@ from scipy.stats import qmc
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from ftfof.config import Params
-from ftfof.robot import robot_context
+from ftfof.pipeline.bench import context_of
 from ftfof.seeds import seed_for
 from ftfof.trajectory.policy import ConstraintPolicy
 from ftfof.trajectory.sampling import sample_feasible
@@ -48,7 +48,7 @@ def main() -> None:
     print(f"{'robot':<8} {'sampler':<12} {'n':>5} {'draws':>11} {'acceptance':>11} {'s':>8}")
     for robot in ("mst_m3f", "mst_q"):
         params = Params.model_validate({**raw, "robot": robot})
-        policy = robot_context(params).policy
+        policy = context_of(params).policy
         seed = seed_for(params.base.seed, "sample")
         start = time.perf_counter()
         res = sample_feasible(policy, N, seed, max_draws=params.sample.max_draws)

@@ -18,9 +18,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench
+from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, context_of
 from ftfof.pipeline.params_file import parse_params, read_yaml
-from ftfof.robot import robot_context
 from ftfof.sim.pool import run_all
 
 FILM_125UM = {"FILM.thickness": 1.25e-4, "FILM.mass_per_length": 0.010}
@@ -54,7 +53,7 @@ def changed(raw: dict, update: dict[str, float]) -> dict:
 def measure(raw: dict) -> tuple[float, float, float, float]:
     """Polynomial pull (N), cycloid and Pf change against it, Pf's min bend radius (m)."""
     params = parse_params(raw, "params.yaml, changed")
-    ctx = robot_context(params)
+    ctx = context_of(params)
     on = bench(params, ctx)
     specs = baseline_specs(on, baseline_trajectories(params, ctx), ["polynomial", "cycloidal"])
     specs.append(on.bezier("paper_optimum", 0, np.array(ctx.robot.published_optimum)))

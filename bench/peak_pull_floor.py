@@ -24,9 +24,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from ftfof.data import targets
-from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench
+from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, context_of
 from ftfof.pipeline.params_file import parse_params, read_yaml
-from ftfof.robot import robot_context
 from ftfof.sim.simulate import simulate
 from ftfof.sim.spec import SampleSpec
 
@@ -68,7 +67,7 @@ def describe(spec: SampleSpec, T3: float) -> str:
 def main() -> None:
     raw = read_yaml(Path(__file__).resolve().parents[1] / "params.yaml")
     params = params_slowed(raw, 1.0)
-    ctx = robot_context(params)
+    ctx = context_of(params)
     on = bench(params, ctx)
     T3 = ctx.policy.timing.T3
     specs = baseline_specs(on, baseline_trajectories(params, ctx), ["polynomial"])
@@ -84,7 +83,7 @@ def main() -> None:
     print("3. the polynomial's path run slower")
     for factor in SLOWDOWNS:
         slowed = params_slowed(raw, factor)
-        slow_ctx = robot_context(slowed)
+        slow_ctx = context_of(slowed)
         spec = baseline_specs(
             bench(slowed, slow_ctx), baseline_trajectories(slowed, slow_ctx), ["polynomial"]
         )[0]

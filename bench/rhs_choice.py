@@ -25,9 +25,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from ftfof.optimize.select import FRONT as FRONT_ORIGIN
 from ftfof.optimize.select import Verdict, verified_rhs
+from ftfof.pipeline.bench import context_of
 from ftfof.pipeline.params_file import load_params
 from ftfof.pipeline.simcheck import simulator_check
-from ftfof.robot import robot_context
 from ftfof.trajectory.bezier import DECISION_NAMES
 
 FRONT = "data/refine/optimize/front.parquet"
@@ -45,7 +45,7 @@ def front_at(root: Path, rev: str) -> pd.DataFrame:
 def main(revs: list[str]) -> None:
     root = Path(__file__).resolve().parents[1]
     params = load_params(root / "params.yaml")
-    ctx = robot_context(params)
+    ctx = context_of(params)
     check = simulator_check(params, ctx)
     names = list(ctx.robot.objectives)
     runs = []

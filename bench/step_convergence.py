@@ -26,10 +26,9 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from ftfof.evaluate.step_check import CHECKED, checked_figures
-from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench
+from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, context_of
 from ftfof.pipeline.params_file import parse_params, read_yaml
 from ftfof.pipeline.simcheck import perturbed_runs
-from ftfof.robot import robot_context
 from ftfof.sim.simulate import simulate
 from ftfof.trajectory.bezier import DECISION_NAMES
 
@@ -68,7 +67,7 @@ def main() -> None:
             "evaluate": {**raw["evaluate"], "check_step": None},  # any step may be tried here
         }
         params = parse_params(changed, "bench")
-        ctx = robot_context(params)
+        ctx = context_of(params)
         on = bench(params, ctx)
         T3 = ctx.policy.timing.T3
         (poly,) = baseline_specs(on, baseline_trajectories(params, ctx), ["polynomial"])

@@ -26,14 +26,14 @@ def command(
     import pyarrow as pa
 
     from ftfof.data.schema import TRAJECTORIES
+    from ftfof.pipeline.bench import context_of
     from ftfof.pipeline.params_file import load_params
-    from ftfof.robot import robot_context
     from ftfof.seeds import seed_for
     from ftfof.trajectory.bezier import DECISION_NAMES
     from ftfof.trajectory.sampling import sample_feasible
 
     params = load_params(params_path)
-    ctx = robot_context(params)
+    ctx = context_of(params)
     cfg = params.sample
     started = time.perf_counter()
     with progress(f"sample {ctx.name}") as bar:

@@ -36,10 +36,15 @@ def command(
     from ftfof.data.schema import TRAJECTORIES
     from ftfof.errors import ParamsError
     from ftfof.files import read_table
-    from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, parse_points
+    from ftfof.pipeline.bench import (
+        baseline_specs,
+        baseline_trajectories,
+        bench,
+        context_of,
+        parse_points,
+    )
     from ftfof.pipeline.params_file import load_params
     from ftfof.report.figures import sample_figure
-    from ftfof.robot import robot_context
     from ftfof.sim.records import CHANNELS
     from ftfof.sim.simulate import simulate
     from ftfof.trajectory.baselines import BASELINE_NAMES
@@ -49,7 +54,7 @@ def command(
     if sum(chosen) != 1:
         raise ParamsError("simulate", "give exactly one of --points, --row, --baseline")
     params = load_params(params_path)
-    ctx = robot_context(params)
+    ctx = context_of(params)
     on = bench(params, ctx)
     if baseline is not None:
         if baseline not in BASELINE_NAMES:

@@ -29,14 +29,15 @@ def command(
     from ftfof.files import save_figure, write_json
     from ftfof.pipeline.machine import describe
     from ftfof.pipeline.params_file import load_params
-    from ftfof.pipeline.training import track, train_all
+    from ftfof.pipeline.training import track
     from ftfof.report.figures import loss_figure, prediction_figure
     from ftfof.seeds import seed_for
+    from ftfof.surrogate.fit import train_all
     from ftfof.surrogate.store import read_dataset, write_models
 
     params = load_params(params_path)
     data = read_dataset(dataset_dir)
-    run = train_all(params, data)
+    run = train_all(params.train, params.search_seed, data)
     loss_fig = loss_figure(run.results)
     pred_fig = prediction_figure(run.results, data, seed_for(params.base.seed, "plots"))
     write_models(out, run.results, data, params.train, run.peaks)

@@ -12,7 +12,8 @@ import yaml
 from typer.testing import CliRunner
 
 from ftfof.config import Params
-from ftfof.robot import RobotContext, robot_context
+from ftfof.pipeline.bench import context_of
+from ftfof.robot import RobotContext
 from stages.cli import app
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -42,7 +43,7 @@ def params(raw_params: dict) -> Params:
 def _context(raw: dict, robot: str) -> RobotContext:
     data = copy.deepcopy(raw)
     data["robot"] = robot
-    return robot_context(Params.model_validate(data))
+    return context_of(Params.model_validate(data))
 
 
 @pytest.fixture(scope="session")

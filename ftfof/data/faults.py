@@ -9,7 +9,6 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -17,36 +16,7 @@ from numpy.typing import NDArray
 from ftfof.data.landing import held_press, landing_fault
 from ftfof.data.release import release_fault
 from ftfof.data.shake import shake_fault
-from ftfof.sim.film import film_limit
-
-if TYPE_CHECKING:
-    from ftfof.config import Robot, Surface
-
-
-@dataclass(frozen=True)
-class FootRules:
-    """A robot's limits on one simulated step (SI units)."""
-
-    film_limit: float  # the least bend radius the film may take
-    swing_clearance: float  # how far the whole pad must rise above the wall
-    landing_start: float  # T2: the pad must stay off the wall from the switch until then
-    pre_pressure: float  # a
-    landing_tolerance: float | None  # fraction of a the landing press may miss it by
-    landing_hold: float  # how long the protocol holds the landing press
-    body_acc_limit: float | None  # the body's peak acceleration over the step
-
-
-def foot_rules(robot: Robot, surface: Surface, landing_hold: float) -> FootRules:
-    """``robot``'s rules on ``surface``, the protocol holding the landing press ``landing_hold``."""
-    return FootRules(
-        film_limit=film_limit(robot, surface).radius,
-        swing_clearance=robot.foot.swing_clearance,
-        landing_start=robot.timing.T2,
-        pre_pressure=robot.pre_pressure,
-        landing_tolerance=robot.landing_tolerance,
-        landing_hold=landing_hold,
-        body_acc_limit=robot.body_acc_limit,
-    )
+from ftfof.rules import FootRules
 
 
 @dataclass(frozen=True)
@@ -89,8 +59,8 @@ def foot_faults(
     bend = scalars["min_bend_radius"]
     film = (
         ""
-        if bend >= rules.film_limit
-        else f"film bent to {1e3 * bend:.2f} mm, below its {1e3 * rules.film_limit:.2f} mm limit"
+        if bend >= rules.film.radius
+        else f"film bent to {1e3 * bend:.2f} mm, below its {1e3 * rules.film.radius:.2f} mm limit"
     )
     held = held_press(t, Fp, rules.landing_hold)
     landed = landing_fault(

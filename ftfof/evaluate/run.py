@@ -16,7 +16,7 @@ import pandas as pd
 from ftfof.config import Params
 from ftfof.data import targets
 from ftfof.data.dataset import CHANNELS
-from ftfof.data.faults import FootRules, foot_faults, foot_rules
+from ftfof.data.faults import foot_faults
 from ftfof.errors import DataError, SimulationError
 from ftfof.evaluate.choice import TABLE_ANALOGUE, Candidate, choice_summary, rhs_candidates
 from ftfof.evaluate.export import ControllerTrajectory, ExportRateError, controller_trajectory
@@ -28,7 +28,7 @@ from ftfof.kinematics.legs import build_leg
 from ftfof.optimize.polish import POLISH
 from ftfof.optimize.select import FRONT
 from ftfof.robot import RobotContext
-from ftfof.sim.film import FilmLimit, film_limit
+from ftfof.rules import FootRules
 from ftfof.surrogate.predict import Surrogate
 from ftfof.trajectory.baselines import BASELINE_NAMES
 from ftfof.trajectory.bezier import DECISION_NAMES
@@ -178,12 +178,12 @@ def checked_at_both_steps(
 
 
 def front_members(
-    df: pd.DataFrame, T3: float, rules: FootRules, film: FilmLimit, films: FilmCheck | None = None
+    df: pd.DataFrame, T3: float, rules: FootRules, films: FilmCheck | None = None
 ) -> dict:
     """The re-simulated optimum and front members side by side: what each trades (pull, jitter,
     landing press), whether its film survives, its pad lets go and clears the wall, it lands
     pressing within the robot's tolerance of a and the body shakes within the robot's limit
-    (``rules``, the simulator check's; ``film`` says where the film limit comes from), so the
+    (``rules``, the simulator check's, with where the film limit comes from), so the
     choice can be judged in simulation. With ``films``, each member's bend on the check film
     too, and whether it keeps fc there."""
     sims = simulated_rows(df)
@@ -208,7 +208,7 @@ def front_members(
                 ),
                 "min_bend_radius": round(f["min_bend_radius"], 6),
                 "film_safe": not faults.film,
-                **_on_check_film(films, run_name(row.source, int(row.sample_id)), film.fc),
+                **_on_check_film(films, run_name(row.source, int(row.sample_id)), rules.film.fc),
                 "max_clearance": round(float(row.max_clearance), 6),
                 "lets_go": not faults.release,
                 "release_fault": faults.release,
@@ -235,7 +235,7 @@ def front_members(
         "lands_fraction": fraction("lands"),
         "calm_fraction": fraction("calm"),
         "clean_fraction": fraction("clean"),
-        "film_limit": film.as_dict(),
+        "film_limit": rules.film.as_dict(),
         "swing_clearance": rules.swing_clearance,
         "landing_tolerance": rules.landing_tolerance,
         "body_acc_limit": rules.body_acc_limit,
@@ -253,13 +253,9 @@ def _on_check_film(films: FilmCheck | None, name: str, fc: float) -> dict[str, A
     }
 
 
-def judged_front(
-    params: Params, ctx: RobotContext, df: pd.DataFrame, films: FilmCheck | None = None
-) -> dict:
+def judged_front(ctx: RobotContext, df: pd.DataFrame, films: FilmCheck | None = None) -> dict:
     """:func:`front_members` with the robot's rules."""
-    robot, surface = ctx.robot, params.selected_surface
-    rules = foot_rules(robot, surface, params.platform.protocol.landing_hold)
-    return front_members(df, ctx.policy.timing.T3, rules, film_limit(robot, surface), films)
+    return front_members(df, ctx.policy.timing.T3, ctx.rules, films)
 
 
 def simulated_rows(df: pd.DataFrame) -> pd.DataFrame:
@@ -509,7 +505,7 @@ def evaluate(
     rows = table_rows(table, cfg.reference, T3)
     steps = checked_at_both_steps(params, table, fine, T3)
     films = checked_on_both_films(params, ctx, table, on_film)
-    front = judged_front(params, ctx, table, films)
+    front = judged_front(ctx, table, films)
     fid, predicted, simulated = fidelity_of(inputs, table, ctx, surrogate)
     controller = export(ctx, inputs, cfg.export_rate_hz)
     n_fidelity = len(predicted) - (0 if from_front(inputs) else 1)

@@ -10,7 +10,7 @@ objectives are the robot's priority list; the inequality constraints are the pol
 the box does not already enforce (relational, shape, sampled position/velocity limits, fs6,
 md_path, the minimum path radius and the no-cusp rule), divided by a unit scale per kind so that
 pymoo's summed violation compares like with like, and the foot's physical limits on what the
-surrogate predicts (:class:`PhysicalLimits`, dimensionless), each where the surrogate was
+surrogate predicts (:data:`PHYSICAL`, dimensionless), each where the surrogate was
 trained on its channel.
 """
 
@@ -19,7 +19,6 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from functools import cache
-from typing import ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -35,69 +34,61 @@ from ftfof.objectives import (
     pad_retouch,
     strategy_values,
 )
+from ftfof.rules import FootRules
 from ftfof.surrogate.predict import Surrogate
 from ftfof.trajectory.policy import Constraint, ConstraintPolicy, FeasibilityReport
 
 Array = NDArray[np.float64]
 
 
-@dataclass(frozen=True)
-class PhysicalLimits:
-    """What a real foot must survive, measured in the simulator and predicted by the surrogate:
-    g <= 0 where it holds. ``film_safety``: limit * max film curvature - 1. ``pad_clearance``,
-    the clean release of :mod:`ftfof.data.release` on the predicted clearance: the larger of
-    1 - max clearance / swing_clearance (the whole pad rises clear) and 1 - swing gap / detached
-    (once risen, it stays at least the switch's height off the wall until the landing).
-    ``pad_retouch``: the same release's last part, on the predicted bonds re-formed between
-    complete detachment and the landing segment (:func:`ftfof.objectives.pad_retouch`), where
-    the robot allows a number.
-    ``landing_press``, :mod:`ftfof.data.landing` on the predicted landing pre-pressure:
-    fs3 / (tolerance x a) - 1, where the robot has a landing tolerance."""
+# What a real foot must survive, measured in the simulator and predicted by the surrogate, each on
+# the channel it needs. g <= 0 where it holds. ``film_safety``: fc * max film curvature - 1.
+# ``pad_clearance``, the clean release of :mod:`ftfof.data.release` on the predicted clearance: the
+# larger of 1 - max clearance / swing_clearance (the whole pad rises clear) and 1 - swing gap /
+# detached (once risen, it stays at least the switch's height off the wall until the landing).
+# ``pad_retouch``: the same release's last part, on the predicted bonds re-formed between complete
+# detachment and the landing segment (:func:`ftfof.objectives.pad_retouch`), where the robot allows
+# a number. ``landing_press``, :mod:`ftfof.data.landing` on the predicted landing pre-pressure:
+# fs3 / (tolerance x a) - 1, where the robot has a landing tolerance.
+PHYSICAL: dict[str, str] = {
+    "film_safety": "curvature",
+    "pad_clearance": "clearance",
+    "pad_retouch": "retouch",
+    "landing_press": "Fp",
+}
 
-    film_radius: float  # m, ftfof.sim.film.FilmLimit.radius
-    swing_clearance: float  # m, robot.foot.swing_clearance
-    detached: float  # m, platform.protocol.switch_height: above it the pad counts as off
-    landing_start: float  # s, T2
-    pre_pressure: float  # a, N
-    landing_tolerance: float | None = None  # robot.landing_tolerance (None: not constrained)
-    retouch_allowed: float | None = None  # robot.retouch_allowed, bonds (None: not constrained)
 
-    TARGETS: ClassVar[dict[str, str]] = {
-        "film_safety": "curvature",
-        "pad_clearance": "clearance",
-        "pad_retouch": "retouch",
-        "landing_press": "Fp",
+def asked_limits(rules: FootRules) -> tuple[str, ...]:
+    """The physical limits the robot asks for: the landing press and the retouch where it sets
+    them."""
+    optional = {"landing_press": rules.landing_tolerance, "pad_retouch": rules.retouch_allowed}
+    return tuple(name for name in PHYSICAL if optional.get(name, True) is not None)
+
+
+def predicted_violations(
+    rules: FootRules, series: Mapping[str, Array], t: Array, names: Sequence[str]
+) -> dict[str, Array]:
+    """name -> (pop,) g for the ``names`` limits, from predicted series on the times ``t``."""
+
+    def release() -> Array:
+        clearance = series["clearance"]
+        gap = swing_gap(clearance, t, rules.swing_clearance, rules.landing_start)
+        return np.maximum(
+            pad_clearance(clearance, rules.swing_clearance), 1.0 - gap / rules.detached
+        )
+
+    def landing() -> Array:
+        assert rules.landing_tolerance is not None  # asked_limits() asks for it only then
+        allowed = rules.landing_tolerance * rules.pre_pressure
+        return fs3_pre_pressure_error(series["Fp"], rules.pre_pressure) / allowed - 1.0
+
+    measures = {
+        "film_safety": lambda: film_safety(series["curvature"], rules.film.radius),
+        "pad_clearance": release,
+        "pad_retouch": lambda: pad_retouch(series["retouch"], rules.retouch_allowed),
+        "landing_press": landing,
     }
-
-    def asked(self) -> tuple[str, ...]:
-        """The limits the robot asks for: the landing press and the retouch where it sets them."""
-        optional = {"landing_press": self.landing_tolerance, "pad_retouch": self.retouch_allowed}
-        return tuple(name for name in self.TARGETS if optional.get(name, True) is not None)
-
-    def constrained(self, trained: Sequence[str]) -> tuple[str, ...]:
-        """The limits asked for whose channel the surrogate was trained on."""
-        return tuple(name for name in self.asked() if self.TARGETS[name] in trained)
-
-    def violations(
-        self, series: Mapping[str, Array], t: Array, names: Sequence[str]
-    ) -> dict[str, Array]:
-        """name -> (pop,) g for the ``names`` limits, from series on the times ``t``."""
-        rules = {
-            "film_safety": lambda: film_safety(series["curvature"], self.film_radius),
-            "pad_clearance": lambda: self._release(series["clearance"], t),
-            "pad_retouch": lambda: pad_retouch(series["retouch"], self.retouch_allowed),
-            "landing_press": lambda: self._landing(series["Fp"]),
-        }
-        return {name: rules[name]() for name in names}
-
-    def _release(self, clearance: Array, t: Array) -> Array:
-        gap = swing_gap(clearance, t, self.swing_clearance, self.landing_start)
-        return np.maximum(pad_clearance(clearance, self.swing_clearance), 1.0 - gap / self.detached)
-
-    def _landing(self, Fp: Array) -> Array:
-        assert self.landing_tolerance is not None  # constrained() asks for it only then
-        allowed = self.landing_tolerance * self.pre_pressure
-        return fs3_pre_pressure_error(Fp, self.pre_pressure) / allowed - 1.0
+    return {name: measures[name]() for name in names}
 
 
 @dataclass(frozen=True)
@@ -108,7 +99,7 @@ class PopulationEvaluation:
     F: Array  # (pop, n_obj) in priority order
     violations: FeasibilityReport  # the non-box rules, in their units (> 0 violated)
     series: dict[str, Array]  # target -> (pop, seq_len) predicted series, in its unit
-    physical: dict[str, Array]  # PhysicalLimits name -> (pop,) predicted g (> 0 violated)
+    physical: dict[str, Array]  # PHYSICAL name -> (pop,) predicted g (> 0 violated)
     t: Array  # the surrogate's time base
 
 
@@ -120,15 +111,15 @@ class TrajectoryProblem(Problem):
         policy: ConstraintPolicy,
         surrogate: Surrogate,
         objectives: Sequence[str],
-        pre_pressure: float,
-        limits: PhysicalLimits,
+        rules: FootRules,
     ):
         self.policy = policy
         self.surrogate = surrogate
         self.objectives = tuple(objectives)
-        self.pre_pressure = pre_pressure
-        self.limits = limits
-        self.physical = limits.constrained(surrogate.trained)
+        self.pre_pressure = rules.pre_pressure
+        self.foot_rules = rules
+        # the limits asked for whose channel the surrogate was trained on
+        self.physical = tuple(n for n in asked_limits(rules) if PHYSICAL[n] in surrogate.trained)
         self.rules: tuple[Constraint, ...] = tuple(c for c in policy.constraints if not c.box)
         self.scales = np.array([_unit_scale(c.kind, policy) for c in self.rules])
         self.force_t = surrogate.time_base(policy.timing.T3)
@@ -165,7 +156,7 @@ class TrajectoryProblem(Problem):
         )
         F = strategy_values(self.objectives, evidence)
         report = self.policy.check(X, samples=path, constraints=self.rules)
-        physical = self.limits.violations(series, self.force_t, self.physical)
+        physical = predicted_violations(self.foot_rules, series, self.force_t, self.physical)
         return PopulationEvaluation(X, F, report, series, physical, self.force_t)
 
     def _evaluate(self, x: Array, out: dict, *args, **kwargs) -> None:

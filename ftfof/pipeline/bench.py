@@ -1,4 +1,5 @@
-"""The simulated bench of a run and the baselines on it, built one way for every command."""
+"""What a run builds from its params, one way for every command: the robot context, the simulated
+bench and the baselines on it."""
 
 from __future__ import annotations
 
@@ -8,11 +9,23 @@ import numpy as np
 
 from ftfof.config import Params, Surface
 from ftfof.errors import ParamsError
-from ftfof.robot import RobotContext
+from ftfof.robot import RobotContext, robot_context
 from ftfof.seeds import seed_for
 from ftfof.sim.spec import Bench, SampleSpec
 from ftfof.trajectory.baselines import common_trajectories
 from ftfof.trajectory.piecewise import Sampled
+
+
+def context_of(params: Params) -> RobotContext:
+    """The selected robot on the selected surface."""
+    return robot_context(
+        params.robot,
+        params.selected_robot,
+        params.selected_surface,
+        params.platform.protocol,
+        params.feasibility,
+        seed_for(params.base.seed, "limits"),
+    )
 
 
 def bench(params: Params, ctx: RobotContext, surface: Surface | None = None) -> Bench:

@@ -9,9 +9,8 @@ from typing import Any
 
 from ftfof.config import Params, Surface
 from ftfof.errors import ParamsError
-from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench
+from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, context_of
 from ftfof.pipeline.console import console
-from ftfof.robot import robot_context
 from ftfof.sim import film
 
 BOUNDS = {"strength": (2e3, 5e5), "fracture_energy": (1.0, 5e3)}
@@ -143,7 +142,7 @@ def fit_surface(
     from ftfof.sim.calibrate import TABLE_I, calibrate
 
     fixed = fixed or {}
-    ctx = robot_context(params)
+    ctx = context_of(params)
     fitted = fit_bounds(third, fixed, bounds or {})
     start = params.selected_surface.model_copy(update=fixed)
     trajectories = baseline_trajectories(params, ctx)

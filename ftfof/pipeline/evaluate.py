@@ -32,10 +32,10 @@ from ftfof.evaluate.run import (
 from ftfof.evaluate.step_check import FINE
 from ftfof.files import atomic_path, write_json
 from ftfof.pipeline import tracking
-from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench
+from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, context_of
 from ftfof.pipeline.console import console
 from ftfof.pipeline.jobs import FINAL, Acquisition
-from ftfof.robot import RobotContext, robot_context
+from ftfof.robot import RobotContext
 from ftfof.sim.spec import Bench, SampleSpec
 
 
@@ -57,7 +57,7 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
     from ftfof.surrogate.store import load_surrogate
 
     started = time.perf_counter()
-    ctx = robot_context(params)
+    ctx = context_of(params)
     inputs = read_inputs(paths.optimize, ctx.name)
     check_models(inputs, paths.optimize, paths.models)
     surrogate = load_surrogate(paths.models)

@@ -28,11 +28,11 @@ from ftfof.data.schema import TRAJECTORIES
 from ftfof.digests import bytes_sha256, file_sha256, json_sha256, tree_sha256
 from ftfof.errors import DataError, SimulationError
 from ftfof.files import atomic_path, read_table, write_json, write_parquet
-from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench
+from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, context_of
 from ftfof.pipeline.console import progress
-from ftfof.robot import RobotContext, robot_context
+from ftfof.robot import RobotContext
 from ftfof.sim import pool
-from ftfof.sim.film import FilmLimit, film_limit
+from ftfof.sim.film import FilmLimit
 from ftfof.sim.simulate import SampleResult
 from ftfof.sim.spec import SampleSpec
 from ftfof.trajectory.bezier import DECISION_NAMES
@@ -57,7 +57,7 @@ class Acquisition:
         cls, params: Params, trajectories: Path, out: Path, limit: int | None = None
     ) -> Acquisition:
         """The `acquire` job: every sampled trajectory (the first ``limit``) and the baselines."""
-        ctx = robot_context(params)
+        ctx = context_of(params)
         table = read_table(trajectories, TRAJECTORIES, "trajectory table")
         robots = set(table.column("robot").to_pylist())
         if robots and robots != {ctx.name}:
@@ -207,7 +207,7 @@ class Acquisition:
         status = np.array(table.column("status").to_pylist())
         failed = int(np.sum(status != "ok"))
         rate = failed / max(len(keys), 1)
-        limit = film_limit(self.ctx.robot, self.params.selected_surface)
+        limit = self.ctx.rules.film
         clearance = self.ctx.robot.foot.swing_clearance
         summary = summarize(table, limit, clearance, wall, simulated)
         if rate > self.params.acquire.max_failure_rate:

@@ -16,7 +16,7 @@ import pyarrow.parquet as pq
 from ftfof.config import Optimize, Params
 from ftfof.digests import models_digest, optimum_digest
 from ftfof.files import atomic_dir, atomic_path, save_figure, write_json
-from ftfof.optimize.problem import PhysicalLimits, TrajectoryProblem
+from ftfof.optimize.problem import TrajectoryProblem, asked_limits
 from ftfof.optimize.search import (
     ConvergenceRecord,
     SearchResult,
@@ -32,12 +32,12 @@ from ftfof.optimize.select import (
     optimum_record,
 )
 from ftfof.pipeline import tracking
+from ftfof.pipeline.bench import context_of
 from ftfof.pipeline.console import console
 from ftfof.pipeline.registry import RegisteredWeights, fetch_model
 from ftfof.pipeline.simcheck import simulator_check
-from ftfof.robot import RobotContext, robot_context
+from ftfof.robot import RobotContext
 from ftfof.seeds import seed_for
-from ftfof.sim.film import film_limit
 
 if TYPE_CHECKING:
     from ftfof.surrogate.predict import Surrogate
@@ -96,10 +96,10 @@ def build_setup(
     """
     from ftfof.trajectory.sampling import sample_feasible
 
-    ctx = robot_context(params)
+    ctx = context_of(params)
     cfg = params.optimize
-    problem = build_problem(params, ctx, surrogate)
-    unseen = set(problem.limits.asked()) - set(problem.physical)
+    problem = TrajectoryProblem(ctx.policy, surrogate, ctx.robot.objectives, ctx.rules)
+    unseen = set(asked_limits(ctx.rules)) - set(problem.physical)
     if unseen:
         console.print(
             f"[yellow]the surrogate was not trained on the channels of {sorted(unseen)} (an "
@@ -130,26 +130,6 @@ def build_setup(
         drawn = sample_feasible(ctx.policy, cfg.population, seed, s.design, s.batch, s.max_draws)
         initial = ctx.policy.contract(drawn.X)
     return Setup(ctx, problem, settings, initial, digest, registered)
-
-
-def build_problem(params: Params, ctx: RobotContext, surrogate: Surrogate) -> TrajectoryProblem:
-    """The robot's objectives and physical limits on ``surrogate``: what the search minimises."""
-    robot = ctx.robot
-    return TrajectoryProblem(
-        ctx.policy,
-        surrogate,
-        robot.objectives,
-        robot.pre_pressure,
-        PhysicalLimits(
-            film_limit(robot, params.selected_surface).radius,
-            robot.foot.swing_clearance,
-            params.platform.protocol.switch_height,
-            ctx.policy.timing.T2,
-            robot.pre_pressure,
-            robot.landing_tolerance,
-            robot.retouch_allowed,
-        ),
-    )
 
 
 def write_front(out: Path, outcome: Outcome, ctx: RobotContext, digest: str, cfg: Optimize) -> None:

@@ -27,10 +27,11 @@ from ftfof.optimize.polish import POLISH, Polished, polish
 from ftfof.optimize.search import SearchSettings
 from ftfof.optimize.select import Outcome, SimulatorCheck, Verdict, fine_policy, rhs_on_verdicts
 from ftfof.pipeline import tracking
+from ftfof.pipeline.bench import context_of
 from ftfof.pipeline.console import console
 from ftfof.pipeline.evaluate import POLISH_READS, check_models, read_inputs
 from ftfof.pipeline.jobs import close_resumable, open_resumable
-from ftfof.robot import RobotContext, robot_context
+from ftfof.robot import RobotContext
 from ftfof.seeds import seed_for
 from ftfof.trajectory.bezier import DECISION_NAMES
 
@@ -60,7 +61,7 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> dict[str, A
         params = params.model_copy(
             update={"acquire": params.acquire.model_copy(update={"workers": workers})}
         )
-    ctx = robot_context(params)
+    ctx = context_of(params)
     inputs = read_inputs(paths.optimize, ctx.name, POLISH_READS)
     check_models(inputs, paths.optimize, paths.models)
     identity = {
@@ -179,13 +180,13 @@ def _outcome(
 ) -> Outcome:
     """Refine's front and nominees, the polished rows after them, RHS among the polished rows on
     their simulated objectives; every row predicted by the surrogates, for the record."""
-    from ftfof.pipeline.optimize import build_problem
+    from ftfof.optimize.problem import TrajectoryProblem
     from ftfof.surrogate.store import load_surrogate
 
     opt = params.optimize
     size = len(inputs.front)
     front = inputs.front.loc[np.arange(size), list(DECISION_NAMES)].to_numpy(dtype=float)
-    problem = build_problem(params, ctx, load_surrogate(models))
+    problem = TrajectoryProblem(ctx.policy, load_surrogate(models), ctx.robot.objectives, ctx.rules)
     evaluation = problem.evaluate_population(ctx.policy.contract(np.vstack([front, result.X])))
     recheck = fine_policy(params, ctx).check(evaluation.X)
     rows = np.arange(size, size + len(result.X))

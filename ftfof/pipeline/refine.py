@@ -54,11 +54,11 @@ from ftfof.evaluate.run import (
 from ftfof.files import atomic_dir, read_table, save_figure, write_json
 from ftfof.optimize.select import FRONT, Nominees, rhs_ranking
 from ftfof.pipeline import tracking
-from ftfof.pipeline.bench import bench
+from ftfof.pipeline.bench import bench, context_of
 from ftfof.pipeline.console import console
 from ftfof.pipeline.evaluate import check_models, front_specs, read_inputs
 from ftfof.pipeline.jobs import FINAL, Acquisition, close_resumable, open_resumable
-from ftfof.robot import RobotContext, robot_context
+from ftfof.robot import RobotContext
 from ftfof.seeds import seed_for
 from ftfof.surrogate.store import FILE, TrainingData, read_dataset
 from ftfof.trajectory.bezier import DECISION_NAMES, same_trajectory
@@ -123,7 +123,7 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> dict[str, A
     from ftfof.report.refine import refine_figure
 
     stage_started = time.perf_counter()
-    ctx = robot_context(params)
+    ctx = context_of(params)
     data = read_dataset(paths.dataset)
     inputs = read_inputs(paths.optimize, ctx.name)
     check_models(inputs, paths.optimize, paths.models)
@@ -234,7 +234,7 @@ def _measured(params: Params, ctx: RobotContext, ok, k: int) -> Measured:
     """Round ``k``'s successful simulations a real foot could run, with their simulated
     objectives (binned as the surrogate's targets, as the simulator check computes them)."""
     sims = simulated_rows(ok)
-    clean = np.array([m["clean"] for m in judged_front(params, ctx, ok)["members"]], dtype=bool)
+    clean = np.array([m["clean"] for m in judged_front(ctx, ok)["members"]], dtype=bool)
     sims = sims[clean]
     X = sims[list(DECISION_NAMES)].to_numpy(dtype=float)
     names = ctx.robot.objectives
@@ -383,7 +383,7 @@ def _fine_tune(params: Params, data: TrainingData, start: Path, out: Path) -> No
     """The ``train.use`` models fine-tuned on ``data`` from the weights in ``start``, and the peak
     models refitted on it (with a local GP on the rounds' rows for ``near_front_peaks``) ->
     ``out``."""
-    from ftfof.pipeline.training import train_all
+    from ftfof.surrogate.fit import train_all
     from ftfof.surrogate.store import load_states, load_surrogate, write_models
 
     cfg = params.refine
@@ -398,7 +398,8 @@ def _fine_tune(params: Params, data: TrainingData, start: Path, out: Path) -> No
     states = {loss: s for loss, s in load_states(start).items() if loss == params.train.use}
     peaks = load_surrogate(start).peaks
     run = train_all(
-        params.model_copy(update={"train": tune}),
+        tune,
+        params.search_seed,
         data,
         warm_start=states,
         peaks_from=peaks,

@@ -9,7 +9,7 @@ import numpy as np
 
 from ftfof.config import Params
 from ftfof.data import targets
-from ftfof.data.faults import foot_faults, foot_rules
+from ftfof.data.faults import foot_faults
 from ftfof.evaluate.fidelity import simulated_objectives
 from ftfof.optimize.select import SimulatorCheck, Verdict
 from ftfof.pipeline.bench import bench
@@ -56,7 +56,7 @@ def simulator_check(params: Params, ctx: RobotContext) -> SimulatorCheck:
     on = bench(params, ctx)
     d = params.dataset
     force_t = targets.time_base(ctx.policy.timing.T3, d.hold, d.seq_len)
-    rules = foot_rules(ctx.robot, params.selected_surface, params.platform.protocol.landing_hold)
+    rules = ctx.rules
 
     cfg = params.optimize
     off_mm = 1e3 * cfg.verify_repeatability

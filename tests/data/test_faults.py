@@ -5,16 +5,20 @@ rule instead of passing it."""
 import numpy as np
 import pytest
 
-from ftfof.data.faults import FootRules, foot_faults
+from ftfof.data.faults import foot_faults
+from ftfof.rules import FootRules
+from ftfof.sim.film import FilmLimit
 
 TIME = np.arange(0.0, 1.3, 1e-3)
 BONDS = np.where(TIME < 0.3, 10.0, np.where(TIME > 1.0, 10.0, 0.0))  # released, then landed
 RULES = FootRules(
-    film_limit=0.0016,
+    film=FilmLimit(fc=0.0016, peel_root=0.0012),
     swing_clearance=0.009,
+    detached=0.002,
     landing_start=0.6,
     pre_pressure=5.0,
     landing_tolerance=0.1,
+    retouch_allowed=None,
     landing_hold=0.25,
     body_acc_limit=9.81,
 )

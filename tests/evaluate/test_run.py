@@ -7,7 +7,6 @@ import pandas as pd
 import pytest
 
 from ftfof.data.dataset import CHANNELS
-from ftfof.data.faults import FootRules
 from ftfof.errors import SimulationError
 from ftfof.evaluate.film_check import FilmCheck
 from ftfof.evaluate.run import (
@@ -19,6 +18,7 @@ from ftfof.evaluate.run import (
     ok_rows,
     table_rows,
 )
+from ftfof.rules import FootRules
 from ftfof.sim.film import FilmLimit
 from tests.data.fake import fake_channels
 
@@ -105,15 +105,17 @@ def test_front_members_show_each_trade_and_the_film_verdict():
     # on the check film the optimum bends to 5.9 mm: past fc there, though not on 40 elements
     films = FilmCheck(40, 80, 0.006, {"optimum": 0.0065, "front 3": 0.0042}, {"optimum": 0.0059})
     rules = FootRules(
-        film_limit=film.radius,
+        film=film,
         swing_clearance=0.009,
+        detached=0.002,
         landing_start=0.6,
         pre_pressure=5.0,
         landing_tolerance=0.15,
+        retouch_allowed=None,
         landing_hold=0.25,
         body_acc_limit=9.81,
     )
-    out = front_members(sims, T3, rules, film, films)
+    out = front_members(sims, T3, rules, films)
     first, other = out["members"]
     assert first["optimum"] and first["row"] == 7 and first["film_safe"]
     assert first["min_bend_radius_on_check_film"] == 0.0059

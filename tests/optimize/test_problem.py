@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from ftfof.data.release import swing_gap
-from ftfof.optimize.problem import PhysicalLimits, TrajectoryProblem
+from ftfof.optimize.problem import TrajectoryProblem, asked_limits
 from ftfof.surrogate.peaks import fit_peak_model
 from ftfof.trajectory.sampling import sample_feasible
 
@@ -17,16 +17,7 @@ def _problem(ctx, surrogate, objectives=None):
         ctx.policy,
         surrogate,
         robot.objectives if objectives is None else objectives,
-        robot.pre_pressure,
-        PhysicalLimits(
-            robot.foot.film_min_bend_radius,
-            robot.foot.swing_clearance,
-            0.002,
-            ctx.policy.timing.T2,
-            robot.pre_pressure,
-            robot.landing_tolerance,
-            robot.retouch_allowed,
-        ),
+        ctx.rules,
     )
 
 
@@ -73,7 +64,7 @@ def test_shapes_and_box(ctx, surrogate):
         expected = landing / (tolerance * ctx.robot.pre_pressure) - 1
         np.testing.assert_allclose(result.physical["landing_press"], expected)
         limits.append(expected)
-    # the physical limits are the last columns, in PhysicalLimits' order
+    # the physical limits are the last columns, in PHYSICAL's order
     np.testing.assert_allclose(out["G"][:, -len(limits) :], np.column_stack(limits))
 
 
@@ -121,11 +112,11 @@ def test_objectives_follow_the_priority_order(m3f, surrogate):
     np.testing.assert_allclose(reversed_problem.evaluate_population(free).F, F[:, ::-1])
 
 
-def test_a_robot_asks_for_the_landing_press_and_the_retouch_only_where_it_sets_them():
-    limits = PhysicalLimits(0.0016, 0.009, 0.002, 0.6, 5.0)
-    assert limits.asked() == ("film_safety", "pad_clearance")
-    both = dataclasses.replace(limits, landing_tolerance=0.1, retouch_allowed=0.5)
-    assert both.asked() == ("film_safety", "pad_clearance", "pad_retouch", "landing_press")
+def test_a_robot_asks_for_the_landing_press_and_the_retouch_only_where_it_sets_them(m3f):
+    neither = dataclasses.replace(m3f.rules, landing_tolerance=None, retouch_allowed=None)
+    assert asked_limits(neither) == ("film_safety", "pad_clearance")
+    both = dataclasses.replace(neither, landing_tolerance=0.1, retouch_allowed=0.5)
+    assert asked_limits(both) == ("film_safety", "pad_clearance", "pad_retouch", "landing_press")
 
 
 def test_the_peak_models_set_fs3_fs7_and_the_landing_limit(m3f, surrogate):

@@ -1,9 +1,11 @@
 """NSGA-II on the trajectory problem: seeded, feasible, recorded."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
-from ftfof.optimize.problem import PhysicalLimits, TrajectoryProblem
+from ftfof.optimize.problem import TrajectoryProblem
 from ftfof.optimize.search import Convergence, SearchSettings, search, warm_population
 from ftfof.trajectory.sampling import sample_feasible
 
@@ -17,14 +19,8 @@ def problem(m3f, surrogate):
         m3f.policy,
         surrogate,
         robot.objectives,
-        robot.pre_pressure,
-        PhysicalLimits(  # no landing tolerance: this surrogate is untrained
-            robot.foot.film_min_bend_radius,
-            robot.foot.swing_clearance,
-            0.002,
-            m3f.policy.timing.T2,
-            robot.pre_pressure,
-        ),
+        # no landing tolerance: this surrogate is untrained
+        dataclasses.replace(m3f.rules, landing_tolerance=None, retouch_allowed=None),
     )
 
 

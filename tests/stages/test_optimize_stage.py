@@ -9,8 +9,8 @@ import pytest
 from typer.testing import CliRunner
 
 from ftfof.config import Params
+from ftfof.pipeline.bench import context_of
 from ftfof.pipeline.evaluate import EVALUATE_READS, missing_fields
-from ftfof.robot import robot_context
 from ftfof.sim.film import film_limit
 from ftfof.trajectory.bezier import DECISION_NAMES
 from stages.cli import app
@@ -105,7 +105,7 @@ def test_optimum_is_feasible_for_an_independent_fine_check(optimized):
     fine = Params.model_validate(
         {**data, "feasibility": {**data["feasibility"], "n_t": 4 * TINY["recheck_samples"]}}
     )
-    ctx = robot_context(fine)
+    ctx = context_of(fine)
     optimum = json.loads((out / "optimum.json").read_text())
     X = np.array([[optimum["decision"][n] for n in DECISION_NAMES]])
     assert ctx.policy.check(X).feasible.all(), ctx.policy.check(X).failed(0)

@@ -13,8 +13,8 @@ from typer.testing import CliRunner
 
 from ftfof.digests import models_digest
 from ftfof.pipeline import refine as refine_run
-from ftfof.pipeline import training
 from ftfof.pipeline.jobs import Acquisition
+from ftfof.surrogate import fit
 from ftfof.trajectory.bezier import DECISION_NAMES, same_trajectory
 from stages.cli import app
 from tests.conftest import optimize_args, refine_args, tree_bytes, write_params
@@ -33,7 +33,7 @@ def _near_front_from_round_one():
     """A tiny round adds about three training rows: let them have a local landing GP, so the
     rounds, and a resumed run's rebuild of them, go through NearFront as at paper scale."""
     with pytest.MonkeyPatch.context() as patch:
-        patch.setattr(training, "MIN_NEAR_FRONT_ROWS", 2)
+        patch.setattr(fit, "MIN_NEAR_FRONT_ROWS", 2)
         yield
 
 

@@ -1,6 +1,6 @@
 """The adhesive interface: one cohesive bond per film node (docs/simulator.md).
 
-Force law (evaluated in C++ as a symbolic user function, see :mod:`ftfof.sim.model`), per node
+Force law (evaluated in C++ as a symbolic user function, see :mod:`ftfof.sim.pad`), per node
 with opening u_n (film above plate), slip u_t from the bond's anchor and pad area A:
 
 - bonded: f = s A (K_t u_t, K u_n) — linear springs through zero whose stiffness is scaled by
@@ -35,7 +35,9 @@ pushed. Compiled, it costs about a microsecond for 20 nodes.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TypeVar
 
 import numba
 import numpy as np
@@ -100,29 +102,65 @@ class BondLaw:
         )
 
     def preload_factor(self, pressure: Array | float) -> Array:
-        return 1.0 - np.exp(-np.asarray(pressure) / self.preload_pressure)
+        return preload_factor(np.asarray(pressure), self.preload_pressure)
 
     def contact_pressure(self, opening: Array, opening_rate: Array) -> Array:
-        """Contact pressure (>= 0) of the C1 ramp with Hunt-Crossley damping (numpy mirror)."""
-        return _contact_pressure(
+        """:func:`contact_pressure` on arrays, with this surface's constants."""
+        return contact_pressure(
             np.asarray(opening, dtype=float),
             np.asarray(opening_rate, dtype=float),
             self.contact_stiffness,
             self.contact_smoothing,
             self.hunt_crossley,
+            np.maximum,
+            np.minimum,
         )
 
 
-@numba.njit(cache=True)
-def _contact_pressure(u: Array, v: Array, kc: float, w: float, hc: float) -> Array:
-    out = np.empty_like(u)
-    for i in range(u.size):
-        pen = max(-u.flat[i], 0.0)
-        ramp = min(pen, w)
-        out.flat[i] = (
-            kc * (ramp * ramp / (2 * w) + max(pen - w, 0.0)) * max(1 - hc * v.flat[i], 0.0)
-        )
-    return out
+# The law's formulas, each written once and evaluated by numpy on arrays and by the compiled
+# :func:`step` on scalars. The contact law is also the bond connector's symbolic user function
+# (:mod:`ftfof.sim.pad`), evaluated on Exudyn symbolic reals that neither numpy nor compiled
+# code can take: so it is plain arithmetic, with max / min given by the caller.
+
+Value = TypeVar("Value")  # a float, a numpy array or an Exudyn symbolic Real
+Clip = Callable[[Value, float], Value]  # max or min against a constant, in the caller's kind
+
+
+def contact_pressure(
+    opening: Value,
+    opening_rate: Value,
+    stiffness: Value | float,
+    smoothing: float,
+    damping: float,
+    maximum: Clip[Value],
+    minimum: Clip[Value],
+) -> Value:
+    """Unilateral contact: a C1 ramp of width w (stiffness rising 0 -> Kc over w) times the
+    Hunt-Crossley factor max(1 - hc v, 0); pressure with Kc per area, force with Kc A."""
+    pen = maximum(-opening, 0.0)
+    ramp = minimum(pen, smoothing)
+    squeeze = ramp * ramp / (2 * smoothing) + maximum(pen - smoothing, 0.0)
+    return stiffness * squeeze * maximum(1.0 - damping * opening_rate, 0.0)
+
+
+def preload_factor(pressure: Value, preload_pressure: float) -> Value:
+    """phi = 1 - exp(-p / p*) of the peak contact pressure p seen while bonded."""
+    return 1.0 - np.exp(-pressure / preload_pressure)
+
+
+# compiled forms for :func:`step` (same source file, so an edit invalidates its cache)
+_contact_pressure = numba.njit(contact_pressure)
+_preload_factor = numba.njit(preload_factor)
+
+
+@numba.njit
+def _max(a: float, b: float) -> float:
+    return max(a, b)
+
+
+@numba.njit
+def _min(a: float, b: float) -> float:
+    return min(a, b)
 
 
 @dataclass
@@ -191,12 +229,10 @@ def step(
         un = q[j + 1] - zp
         vn = qd[j + 1] - vzp
         lowest = min(lowest, un)
-        pen = max(-un, 0.0)
-        ramp = min(pen, w)
-        pressure = kc * (ramp * ramp / (2 * w) + max(pen - w, 0.0)) * max(1 - hc * vn, 0.0)
+        pressure = _contact_pressure(un, vn, kc, w, hc, _max, _min)
         if not broken[i]:
             ut = x - xp - anchor[i]
-            healthy = (1.0 - np.exp(-p_max[i] / p_star)) * rate[i]  # phi * R
+            healthy = _preload_factor(p_max[i], p_star) * rate[i]  # phi * R
             d_shear = d_t * (1.0 + mu * pressure / (max(healthy, 1e-12) * tau))
             a_n, a_t = max(un, 0.0) / d_c, ut / d_shear
             lam = np.sqrt(a_n * a_n + a_t * a_t)
@@ -219,7 +255,7 @@ def step(
             if lam > LOADED * r and opening_rate[i] > 0.0:
                 rate[i] = max(rate[i], 1.0 + (opening_rate[i] / v_star) ** n_rate)
             opening_max[i] = max(opening_max[i], lam)
-            healthy = (1.0 - np.exp(-p_max[i] / p_star)) * rate[i]
+            healthy = _preload_factor(p_max[i], p_star) * rate[i]
             target = healthy
             if opening_max[i] > r:  # softening branch: secant stiffness of the bilinear law
                 target *= r * (1.0 - opening_max[i]) / (opening_max[i] * (1.0 - r))
@@ -236,7 +272,7 @@ def step(
             rate[i] = 1.0
             opening_rate[i] = 0.0
             opening_max[i] = 0.0
-            scale[i] = 1.0 - np.exp(-pressure / p_star)
+            scale[i] = _preload_factor(pressure, p_star)
             push[n_push] = i
             kind[n_push] = REBOND
             n_push += 1

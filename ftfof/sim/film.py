@@ -24,7 +24,7 @@ the elements shrink (the edge slope strayed 12 degrees from the sole at N = 20, 
 the last clamped element is pinned at four points: straight and rigid with the sole, the film
 leaves the clamp tangent to it at every N.
 
-The curvature stop (:func:`ftfof.sim.model._bending_moment`) is a symbolic moment law that costs
+The curvature stop (:func:`ftfof.sim.pad._bending_moment`) is a symbolic moment law that costs
 +70 % run time on every element; :func:`arm_stops` lets the pre-step put it only on elements
 bent past ARM / stop_radius, and take it off below DISARM / stop_radius.
 """

@@ -8,16 +8,10 @@ Planar: Exudyn x is along the wall, Exudyn y is our z (normal to the plate). Ite
 - robot body: a point mass on compliant mounts (the other feet on the wall) carrying the IMU;
 - lumped leg: x/z spring-dampers from the body to the ankle whose rest offset *is* the commanded
   trajectory (a symbolic piecewise quintic, exact velocity for the damper) minus the press depth;
-- foot: a rigid body on a passive ankle spring, clamping the film's first ``grip_length`` (pinned
-  at every film node inside the grip, and the last clamped element held straight with the sole:
-  :func:`ftfof.sim.film.clamp_pins`);
-- film: ANCF cable elements (exact EI, EA) lying on the plate ahead of the foot, x in [0, lf],
-  each with a curvature stop (:func:`_bending_moment`) that the solver loop arms only while the
-  element is bent near it (the symbolic moment law costs +70 % run time when always on); a
-  sensor per node records its coordinates for :mod:`ftfof.sim.film`;
-- one cohesive bond connector per film node (law in :mod:`ftfof.sim.bonds`), all sharing one
-  symbolic user function; their state lives in the connector parameters (stiffness =
-  [K_t A, K A, Kc A], damping = [broken, phi * R, 0], offset = [anchor, 0, 0]).
+- foot: a rigid body on a passive ankle spring, clamping the film's first ``grip_length``;
+- the pad (:mod:`ftfof.sim.pad`): the ANCF film on the plate ahead of the foot and one cohesive
+  bond connector per film node; a sensor per film node records its coordinates for
+  :mod:`ftfof.sim.film`.
 """
 
 from __future__ import annotations
@@ -30,32 +24,27 @@ import exudyn as exu
 import numpy as np
 from exudyn.advancedUtilities import CreateSymbolicUserFunction
 from exudyn.itemInterface import (
-    CartesianSpringDamper,
     CoordinateSpringDamper,
     LoadMassProportional,
     MarkerBodyMass,
-    MarkerBodyPosition,
     MarkerNodeCoordinate,
     MarkerNodePosition,
     MassPoint2D,
     NodePoint2D,
-    NodePoint2DSlope1,
     NodePointGround,
     NodeRigidBody2D,
-    ObjectANCFCable2D,
-    ObjectJointRevolute2D,
     ObjectRigidBody2D,
     SensorNode,
     SensorObject,
 )
 
-from ftfof.config import FilmMechanics
+from ftfof.config import GRAVITY
 from ftfof.sim import film as film_shape
 from ftfof.sim.bonds import BondLaw
+from ftfof.sim.pad import add_bonds, add_film
 from ftfof.sim.spec import SampleSpec
 
 esym = exu.symbolic
-GRAVITY = 9.81
 Real = esym.Real
 
 
@@ -156,45 +145,9 @@ def build(spec: SampleSpec, law: BondLaw) -> Platform:
         )
     )
 
-    # film (ANCF cable) lying on the plate ahead of the foot
-    film_nodes = [
-        mbs.AddNode(NodePoint2DSlope1(referenceCoordinates=[x, 0.0, 1.0, 0.0])) for x in x_ref
-    ]
-    elements = [
-        mbs.AddObject(
-            ObjectANCFCable2D(
-                nodeNumbers=[film_nodes[i], film_nodes[i + 1]],
-                length=dx,
-                massPerLength=film.mass_per_length,
-                bendingStiffness=film.bending_stiffness,
-                axialStiffness=film.axial_stiffness,
-                bendingDamping=film.bending_damping,
-                axialDamping=film.axial_damping,
-                useReducedOrderIntegration=1,
-            )
-        )
-        for i in range(n)
-    ]
-    stop = CreateSymbolicUserFunction(
-        mbs, _bending_moment(film), "bendingMomentUserFunction", itemTypeName="ObjectANCFCable2D"
-    )
-    for e in elements:
-        mbs.AddLoad(
-            LoadMassProportional(
-                markerNumber=mbs.AddMarker(MarkerBodyMass(bodyNumber=e)),
-                loadVector=[0.0, -GRAVITY, 0.0],
-            )
-        )
+    # the film lying on the plate ahead of the foot, its first ``grip`` clamped to the sole
     grip = min(foot.grip_length, pad)
-    for x in film_shape.clamp_pins(x_ref, grip):
-        e = min(int(x // dx + 1e-9), n - 1)
-        on_film = mbs.AddMarker(
-            MarkerBodyPosition(bodyNumber=elements[e], localPosition=[x - e * dx, 0.0, 0.0])
-        )
-        on_foot = mbs.AddMarker(
-            MarkerBodyPosition(bodyNumber=foot_body, localPosition=[x, -ha, 0.0])
-        )
-        mbs.AddObject(ObjectJointRevolute2D(markerNumbers=[on_foot, on_film]))
+    film_nodes, elements, stop = add_film(mbs, film, x_ref, dx, foot_body, ha, grip)
 
     p = Platform(
         sc=sc,
@@ -224,7 +177,10 @@ def build(spec: SampleSpec, law: BondLaw) -> Platform:
         body_acc = attach_joint_leg(p, foot_node, g0)
     else:
         body_acc = _lumped_leg(p, g0, foot_node)
-    _bonds(p, plate_pos)
+    p.bonds, bond_force = add_bonds(
+        mbs, law, film_nodes, x_ref, area, p.initial_pressure, plate_pos
+    )
+    p.keep.append(bond_force)
 
     store = {"storeInternal": True, "writeToFile": False}
     force = exu.OutputVariableType.Force
@@ -256,32 +212,6 @@ def build(spec: SampleSpec, law: BondLaw) -> Platform:
     ]
     mbs.Assemble()
     return p
-
-
-def _bending_moment(film: FilmMechanics) -> Any:
-    """Linear bending (EI, damping) plus a curvature stop: past 1 / stop_radius the moment
-    rises ``stop_stiffness`` times faster, so the film cannot be folded flat at no cost."""
-    limit, gain = 1.0 / film.stop_radius, film.stop_stiffness
-
-    def bending_moment(
-        mbs,
-        t,
-        itemNumber,
-        axialPositionNormalized,
-        curvature,
-        curvature_t,
-        curvatureRef,
-        bendingStiffness,
-        bendingDamping,
-        axialStrain,
-        axialStrain_t,
-        axialStrainRef,
-    ):
-        k = curvature - curvatureRef
-        over = esym.max(esym.abs(k) - Real(limit), Real(0.0)) * esym.sign(k)
-        return bendingStiffness * (k + Real(gain) * over) + bendingDamping * curvature_t
-
-    return bending_moment
 
 
 def _series_stiffness(spec: SampleSpec, law: BondLaw, area: np.ndarray) -> float:
@@ -369,45 +299,3 @@ def _leg_force(traj: Any, dim: int, press: Any) -> Any:
         return k * (u - target) + d * (v - rate)
 
     return leg_force
-
-
-def _bonds(p: Platform, plate_marker: Any) -> None:
-    law, mbs = p.law, p.mbs
-    w, hc, mu, vf = law.contact_smoothing, law.hunt_crossley, law.friction, law.friction_speed
-
-    def bond_force(mbs, t, itemNumber, u, v, k, d, offset):
-        bonded = (Real(1.0) - d[0]) * d[1]
-        pen = esym.max(-u[1], Real(0.0))
-        ramp = esym.min(pen, Real(w))
-        contact = k[2] * (ramp * ramp / (2 * w) + esym.max(pen - w, Real(0.0)))
-        contact = contact * esym.max(Real(1.0) - hc * v[1], Real(0.0))
-        fn = bonded * k[1] * u[1] - contact
-        ft = bonded * k[0] * u[0] + d[0] * mu * contact * esym.tanh(v[0] / vf)
-        return [ft, fn, 0]
-
-    phi0 = float(law.preload_factor(p.initial_pressure))
-    shared = None
-    for i, node in enumerate(p.film_nodes):
-        area = p.area[i]
-        obj = mbs.AddObject(
-            CartesianSpringDamper(
-                markerNumbers=[plate_marker, mbs.AddMarker(MarkerNodePosition(nodeNumber=node))],
-                stiffness=[
-                    law.shear_stiffness * area,
-                    law.stiffness * area,
-                    law.contact_stiffness * area,
-                ],
-                damping=[0.0, phi0, 0.0],
-                offset=[p.x_ref[i], 0.0, 0.0],
-            )
-        )
-        if shared is None:
-            shared = CreateSymbolicUserFunction(
-                mbs,
-                bond_force,
-                "springForceUserFunction",
-                itemTypeName="ObjectConnectorCartesianSpringDamper",
-            )
-            p.keep.append(shared)
-        mbs.SetObjectParameter(obj, "springForceUserFunction", shared)
-        p.bonds.append(obj)

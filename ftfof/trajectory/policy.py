@@ -5,13 +5,8 @@ Turns a robot preset plus its resolved limits into
 - the free decision variables and their box (ties such as MST-Q's P10x = P11x = P12x and its
   vertical detachment P3x = P4x = P5x = P0x are removed by reparameterisation, never posed as
   equalities);
-- a table of named constraints, each a vectorised violation measure (> 0 means violated) over a
-  population of full 12-value decision vectors, covering the five constraint kinds of the paper
-  plus the bending measure fs6. Swing containment is checked on the *sampled* trajectory (the
-  published MST-M3F optimum has swing control points above Pplz while its curve stays below),
-  and so are md on the path (``md_path``, switchable per robot) and the hairpin guards
-  ``min_path_radius`` and ``no_cusp`` that keep fs6 from being passed between samples
-  (:mod:`ftfof.trajectory.rules`).
+- the table of named constraints (:mod:`ftfof.trajectory.constraints`), run on populations of
+  full 12-value decision vectors into a :class:`~ftfof.trajectory.feasibility.FeasibilityReport`.
 
 An impossible description (a lower bound at or above its upper bound) raises
 :class:`~ftfof.errors.InfeasibleRobotError` naming the constraint, before anything is sampled.
@@ -20,9 +15,6 @@ An impossible description (a lower bound at or above its upper bound) raises
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
-from dataclasses import dataclass, field
-from functools import cached_property
 
 import numpy as np
 from numpy.typing import NDArray
@@ -30,118 +22,18 @@ from numpy.typing import NDArray
 from ftfof import config
 from ftfof.errors import InfeasibleRobotError
 from ftfof.kinematics.limits import RobotLimits
-from ftfof.objectives import fs6_bending
 from ftfof.trajectory.bezier import DECISION_NAMES, Samples, evaluate
-from ftfof.trajectory.rules import md_path_violation, path_radius_violation, reversal_violation
+from ftfof.trajectory.constraints import constraint_table
+from ftfof.trajectory.feasibility import (
+    COLUMN,
+    Bound,
+    Constraint,
+    FeasibilityReport,
+    Population,
+    report,
+)
 
 Array = NDArray[np.float64]
-KINDS = (
-    "position_limit",
-    "velocity_limit",
-    "min_detachment",
-    "transition",
-    "shape",
-    "bending",
-)
-_COL = {name: i for i, name in enumerate(DECISION_NAMES)}
-
-
-@dataclass(frozen=True)
-class Constraint:
-    """One named rule; ``violation`` maps the context to (pop,) amounts, > 0 = violated."""
-
-    kind: str
-    name: str
-    violation: Callable[[_Context], Array]
-    sampled: bool = False  # needs the sampled trajectory (costly) rather than control points
-    box: bool = False  # a plain bound on one free variable (an optimiser's box enforces it)
-
-
-@dataclass
-class _Context:
-    """A population under check: the decision columns and, lazily, its sampled trajectory."""
-
-    X: Array
-    sampler: Callable[[Array], Samples]
-    _samples: Samples | None = field(default=None, repr=False)
-
-    def __getitem__(self, name: str) -> Array:
-        return self.X[:, _COL[name]]
-
-    @property
-    def samples(self) -> Samples:
-        if self._samples is None:
-            self._samples = self.sampler(self.X)
-        return self._samples
-
-    @cached_property
-    def extremes(self) -> dict[str, Array]:
-        """Per-row extremes of the sampled path, each (pop, 2): one pass shared by every rule."""
-        pos, vel = self.samples.position, self.samples.velocity
-        dims = range(pos.shape[-1])  # per component: each is contiguous in time
-
-        def per_axis(reduce: Callable[[Array], Array], A: Array) -> Array:
-            return np.column_stack([reduce(A[..., k]) for k in dims])
-
-        return {
-            "position_max": per_axis(lambda a: a.max(axis=-1), pos),
-            "position_min": per_axis(lambda a: a.min(axis=-1), pos),
-            "speed_max": per_axis(lambda a: np.maximum(a.max(axis=-1), -a.min(axis=-1)), vel),
-        }
-
-
-@dataclass(frozen=True)
-class FeasibilityReport:
-    """Which rows satisfy every constraint, and by how much each one is violated."""
-
-    names: tuple[str, ...]
-    kinds: tuple[str, ...]
-    violations: Array  # (pop, n_constraints)
-
-    @property
-    def feasible(self) -> NDArray[np.bool_]:
-        """Rows with no violation; a NaN (rule not evaluated) never counts as satisfied."""
-        V = self.violations
-        return ~np.any((V > 0) | np.isnan(V), axis=1)
-
-    def failed(self, row: int) -> list[str]:
-        """Human-readable 'kind: rule (by amount)' for each constraint row ``row`` violates."""
-        v = self.violations[row]
-        return [
-            f"{k}: {n} (by {v[j]:.3g})"
-            for j, (k, n) in enumerate(zip(self.kinds, self.names, strict=True))
-            if v[j] > 0
-        ]
-
-    def rejected_by(self) -> dict[str, int]:
-        """How many rows each constraint rejects (a row may count under several)."""
-        counts = np.sum(self.violations > 0, axis=0)
-        return {n: int(c) for n, c in zip(self.names, counts, strict=True)}
-
-    def evaluated_by(self) -> dict[str, int]:
-        """How many rows each constraint was evaluated on (:meth:`ConstraintPolicy.screen`
-        leaves the sampled-trajectory rules NaN on rows the control-point rules reject)."""
-        counts = np.sum(~np.isnan(self.violations), axis=0)
-        return {n: int(c) for n, c in zip(self.names, counts, strict=True)}
-
-    def passed_by(self) -> dict[str, int]:
-        """How many rows each constraint was evaluated on and passed."""
-        counts = np.sum(self.violations <= 0, axis=0)
-        return {n: int(c) for n, c in zip(self.names, counts, strict=True)}
-
-    def rejected_by_kind(self) -> dict[str, int]:
-        out = {}
-        for kind in KINDS:
-            cols = [j for j, k in enumerate(self.kinds) if k == kind]
-            if cols:
-                out[kind] = int(np.sum(np.any(self.violations[:, cols] > 0, axis=1)))
-        return out
-
-
-@dataclass(frozen=True)
-class Bound:
-    value: float
-    rule: str
 
 
 class ConstraintPolicy:
@@ -169,7 +61,9 @@ class ConstraintPolicy:
         )
         self.lower, self.upper = self._free_box()
         self._expand_A, self._expand_c = self._expansion()
-        self.constraints: tuple[Constraint, ...] = self._constraints()
+        self.constraints: tuple[Constraint, ...] = constraint_table(
+            robot, limits, feasibility, self.t, self.p0, self.variable_bounds()
+        )
 
     # --- decision space -----------------------------------------------------------------------
 
@@ -264,7 +158,7 @@ class ConstraintPolicy:
 
     def contract(self, X: Array) -> Array:
         """Full decision vectors -> free variables (the tied copies must agree)."""
-        cols = [_COL[n] for n in self.free_names]
+        cols = [COLUMN[n] for n in self.free_names]
         return np.atleast_2d(X)[:, cols]
 
     @property
@@ -297,14 +191,14 @@ class ConstraintPolicy:
         weight = np.full(len(U), 1.0 / float(np.prod(self.upper - self.lower)))
 
         def col(name: str) -> Array:
-            return X[:, _COL[name]]
+            return X[:, COLUMN[name]]
 
         def put(name: str, lo: Array | float, hi: Array | float, root: bool = False) -> None:
             nonlocal weight
             lo = np.maximum(lo, box[name][0].value)
             span = np.minimum(hi, box[name][1].value) - lo
             w = np.sqrt(u[name]) if root else u[name]
-            X[:, _COL[name]] = lo + w * span
+            X[:, COLUMN[name]] = lo + w * span
             # d sqrt(u) / du = 1 / (2 sqrt(u)); the next variable's span (w * span) cancels it
             weight = weight * span * (0.5 / np.maximum(w, 1e-300) if root else 1.0)
 
@@ -352,121 +246,6 @@ class ConstraintPolicy:
 
     # --- constraints --------------------------------------------------------------------------
 
-    def _constraints(self) -> tuple[Constraint, ...]:
-        r = self.robot
-        out: list[Constraint] = []
-        kind_of = {
-            "P3": "shape",
-            "P4": "shape",
-            "P5": "transition",
-            "P10": "transition",
-            "P11": "shape",
-            "P12": "shape",
-        }
-        for var, (lo, hi) in self.variable_bounds().items():
-            lo_kind = "min_detachment" if lo.rule in ("ld < P5x", "hd < P5z") else kind_of[var[:-1]]
-            out.append(Constraint(lo_kind, lo.rule, _lower(var, lo.value), box=True))
-            out.append(Constraint(kind_of[var[:-1]], hi.rule, _upper(var, hi.value), box=True))
-        out += self._relational(r)
-        out += self._sampled()
-        return tuple(out)
-
-    def _relational(self, r: config.Robot) -> list[Constraint]:
-        lf, hs = r.foot.pad_length, r.foot.droop_height
-        out = [Constraint("transition", "P5x < P10x", lambda c: c["P5x"] - c["P10x"])]
-        if r.shape.complete_detachment == "peel":
-
-            def peel_height(c: _Context) -> Array:
-                arc = np.sqrt(np.maximum(0.0, lf**2 - (c["P10x"] - lf) ** 2))
-                return np.maximum(hs, arc) - c["P10z"]
-
-            out.append(
-                Constraint("transition", "max(hs, sqrt(lf^2 - (P10x - lf)^2)) < P10z", peel_height)
-            )
-        if r.shape.detachment == "upper_triangle":
-
-            def above_chord(p: str) -> Callable[[_Context], Array]:
-                def fn(c: _Context) -> Array:
-                    slope = (c["P5z"] - self.p0[1]) / np.maximum(c["P5x"] - self.p0[0], 1e-12)
-                    return self.p0[1] + (c[p + "x"] - self.p0[0]) * slope - c[p + "z"]
-
-                return fn
-
-            out += [
-                Constraint("shape", "P3x < P4x", lambda c: c["P3x"] - c["P4x"]),
-                Constraint("shape", "P4x < P5x", lambda c: c["P4x"] - c["P5x"]),
-                Constraint("shape", "P3z above chord P0-P5", above_chord("P3")),
-                Constraint("shape", "P4z above chord P0-P5", above_chord("P4")),
-                Constraint("shape", "P3z < P5z", lambda c: c["P3z"] - c["P5z"]),
-                Constraint("shape", "P4z < P5z", lambda c: c["P4z"] - c["P5z"]),
-            ]
-        else:
-            out += [
-                Constraint("shape", "P3z < P4z (vertical lift)", lambda c: c["P3z"] - c["P4z"]),
-                Constraint("shape", "P4z < P5z (vertical lift)", lambda c: c["P4z"] - c["P5z"]),
-            ]
-        return out
-
-    def _sampled(self) -> list[Constraint]:
-        pplx, pplz = self.limits.position
-        vplx, vplz = self.limits.velocity
-        tol = self.feasibility.position_tolerance
-        floor = np.where(self.t > self.timing.T2, -self.robot.shape.press_depth, self.p0[1])
-        r_min = self.robot.constraints.min_path_radius
-        # a speed that moves the foot less than min_step in one grid interval has no direction
-        min_speed = self.feasibility.min_step / float(self.t[1] - self.t[0])
-
-        def extreme(key: str, axis: int, sign: float, limit: float) -> Callable[[_Context], Array]:
-            return lambda c: sign * c.extremes[key][:, axis] - limit
-
-        rules = [
-            ("position_limit", "trajectory x <= Pplx", extreme("position_max", 0, 1, pplx + tol)),
-            ("position_limit", "trajectory z <= Pplz", extreme("position_max", 1, 1, pplz + tol)),
-            (
-                "position_limit",
-                "trajectory x >= P0x",
-                extreme("position_min", 0, -1, tol - self.p0[0]),
-            ),
-            (
-                "position_limit",
-                "trajectory z >= wall (or -press_depth while adhering)",
-                lambda c: np.max(floor - c.samples.position[..., 1], axis=1) - tol,
-            ),
-            ("velocity_limit", "|vx| <= Vplx", extreme("speed_max", 0, 1, vplx)),
-            ("velocity_limit", "|vz| <= Vplz", extreme("speed_max", 1, 1, vplz)),
-            (
-                "bending",
-                "fs6 = 0",
-                lambda c: (
-                    fs6_bending(c.samples.position, self.feasibility.min_step)
-                    - self.feasibility.bend_tolerance
-                ),
-            ),
-            (
-                "bending",
-                "min_path_radius",
-                lambda c: path_radius_violation(
-                    c.samples.velocity, c.samples.acceleration, c.samples.t, r_min
-                ),
-            ),
-            ("bending", "no_cusp", lambda c: reversal_violation(c.samples.velocity, min_speed)),
-        ]
-        if self.robot.constraints.md_path:
-            md = self.robot.min_detachment
-            rules.append(
-                (
-                    "min_detachment",
-                    "md_path",
-                    lambda c: (
-                        md_path_violation(
-                            c.samples.position, c.samples.t, self.timing.T1, md.ld, md.hd
-                        )
-                        - tol
-                    ),
-                )
-            )
-        return [Constraint(kind, name, fn, sampled=True) for kind, name, fn in rules]
-
     def check(
         self,
         X: Array,
@@ -477,15 +256,15 @@ class ConstraintPolicy:
 
         ``samples`` may pass the trajectory already sampled on the policy grid, saving a pass.
         """
-        ctx = _Context(np.atleast_2d(np.asarray(X, dtype=float)), self.sample, samples)
+        ctx = Population(np.atleast_2d(np.asarray(X, dtype=float)), self.sample, samples)
         rules = self.constraints if constraints is None else constraints
-        return _report(rules, np.column_stack([c.violation(ctx) for c in rules]))
+        return report(rules, np.column_stack([c.violation(ctx) for c in rules]))
 
     def screen(self, X: Array, chunk: int = 8192) -> FeasibilityReport:
         """Like :meth:`check`, but the sampled-trajectory rules run only on rows that pass the
         control-point rules (others get NaN there): cheap enough for millions of draws."""
         X = np.atleast_2d(np.asarray(X, dtype=float))
-        ctx = _Context(X, self.sample)
+        ctx = Population(X, self.sample)
         cheap = [j for j, c in enumerate(self.constraints) if not c.sampled]
         V = np.full((len(X), len(self.constraints)), np.nan)
         V[:, cheap] = np.column_stack([self.constraints[j].violation(ctx) for j in cheap])
@@ -493,20 +272,8 @@ class ConstraintPolicy:
         costly = [j for j, c in enumerate(self.constraints) if c.sampled]
         for start in range(0, len(survivors), chunk):
             rows = survivors[start : start + chunk]
-            sub = _Context(X[rows], self.sample)
+            sub = Population(X[rows], self.sample)
             V[np.ix_(rows, costly)] = np.column_stack(
                 [self.constraints[j].violation(sub) for j in costly]
             )
-        return _report(self.constraints, V)
-
-
-def _report(rules: tuple[Constraint, ...], V: Array) -> FeasibilityReport:
-    return FeasibilityReport(tuple(c.name for c in rules), tuple(c.kind for c in rules), V)
-
-
-def _lower(var: str, value: float) -> Callable[[_Context], Array]:
-    return lambda c: value - c[var]
-
-
-def _upper(var: str, value: float) -> Callable[[_Context], Array]:
-    return lambda c: c[var] - value
+        return report(self.constraints, V)

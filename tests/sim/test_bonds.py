@@ -1,5 +1,6 @@
 """The cohesive bond law and its per-step state machine, without the simulator."""
 
+import exudyn as exu
 import numpy as np
 import pytest
 
@@ -51,6 +52,37 @@ def test_contact_ramp_is_c1_and_zero_when_apart(law):
     eps = 1e-9
     left = law.contact_pressure(np.array([-w + eps, -w - eps]), np.zeros(2))
     assert (left[1] - left[0]) / (2 * eps) == pytest.approx(law.contact_stiffness, rel=1e-3)
+
+
+def test_arrays_the_kernel_and_the_connector_share_one_contact_law(law):
+    """The numpy mirror, the compiled step and the connector's symbolic user function all
+    evaluate :func:`bonds.contact_pressure`: the same pressures for the same opening and rate."""
+    w = law.contact_smoothing
+    u = np.array([1e-3, 0.0, -w / 2, -w, -3 * w, -3 * w])
+    # closing (v < 0) stiffens the contact; the last node opens too fast to push at all
+    v = np.array([0.0, 0.1, -0.2, 0.01, 0.03, 2 / law.hunt_crossley])
+    expected = law.contact_pressure(u, v)
+    assert expected[-1] == 0 and (expected[2:-1] > 0).all()
+    film = Film(len(u))  # bonded at no preload: after a step p_max is the kernel's pressure
+    state = BondState.bonded(film.x, 0.0, law)
+    film.q[film.node_index + 1] = u
+    film.qd[film.node_index + 1] = v
+    film.step(state, law)
+    assert state.p_max.tolist() == expected.tolist()
+    esym = exu.symbolic
+    symbolic = [
+        bonds.contact_pressure(
+            esym.Real(float(a)),
+            esym.Real(float(b)),
+            law.contact_stiffness,
+            w,
+            law.hunt_crossley,
+            esym.max,
+            esym.min,
+        ).Evaluate()
+        for a, b in zip(u, v, strict=True)
+    ]
+    assert symbolic == expected.tolist()
 
 
 class Film:

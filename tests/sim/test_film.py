@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from ftfof.pipeline.simcheck import simulator_check
+from ftfof.rules import foot_rules
 from ftfof.sim import film
 from ftfof.sim.simulate import simulate
 from ftfof.trajectory.baselines import Polynomial
@@ -153,7 +154,12 @@ def test_the_simulator_check_refuses_a_swing_that_drags_its_pad_and_pf_for_its_f
     # the release rule here, with a film limit Pf keeps (4 mm) and no body limit; the body rule
     # on its own below
     foot = m3f.robot.foot.model_copy(update={"film_min_bend_radius": 0.004})
-    free = replace(m3f, robot=m3f.robot.model_copy(update={"body_acc_limit": None, "foot": foot}))
+
+    def on(robot):  # the context with this robot: its rules follow it
+        rules = foot_rules(robot, params.selected_surface, params.platform.protocol)
+        return replace(m3f, robot=robot, rules=rules)
+
+    free = on(m3f.robot.model_copy(update={"body_acc_limit": None, "foot": foot}))
     check = simulator_check(params, free)
     dragged, published = check([14, 0], np.array([LOW_SWING, PUBLISHED]))
     assert dragged.row == 14 and published.row == 0  # in the order asked, whatever finished first
@@ -161,7 +167,7 @@ def test_the_simulator_check_refuses_a_swing_that_drags_its_pad_and_pf_for_its_f
     assert published.ok, published.reason
     peak = published.measured["peak_body_acc"]  # Pf's nominal run
     limited = free.robot.model_copy(update={"body_acc_limit": 0.9 * peak})
-    (shaken,) = simulator_check(params, replace(free, robot=limited))([0], PUBLISHED[None])
+    (shaken,) = simulator_check(params, on(limited))([0], PUBLISHED[None])
     assert not shaken.ok and shaken.reason.startswith(f"the body shook {peak:.1f}"), shaken.reason
     assert published.measured["max_clearance"] >= m3f.robot.foot.swing_clearance
     # Pf as published and twice off by the foot's repeatability: the mean and the spread of each

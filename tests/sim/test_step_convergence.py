@@ -10,8 +10,8 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 import pytest
 
+from ftfof.evaluate.specs import with_step
 from ftfof.evaluate.step_check import CHECKED, checked_figures
-from ftfof.pipeline.evaluate import with_step
 from ftfof.sim.simulate import simulate
 from ftfof.trajectory.baselines import Polynomial
 from tests.sim.helpers import PUBLISHED, bench

@@ -7,9 +7,9 @@ import pytest
 
 from ftfof.config import Params
 from ftfof.errors import InfeasibleRobotError
-from ftfof.robot import robot_context
+from ftfof.pipeline.bench import context_of
 from ftfof.trajectory.bezier import DECISION_NAMES
-from ftfof.trajectory.policy import KINDS
+from ftfof.trajectory.feasibility import KINDS
 from tests.conftest import PUBLISHED_M3F
 
 
@@ -49,7 +49,7 @@ def test_each_constraint_kind_rejects_its_violator_and_names_itself(m3f, kind):
 def test_velocity_limit_rejects_a_too_fast_trajectory(raw_params):
     data = copy.deepcopy(raw_params)
     data["robots"]["mst_m3f"]["velocity_limit"]["pinned"] = {"x": 0.25, "z": 0.77}
-    ctx = robot_context(Params.model_validate(data))
+    ctx = context_of(Params.model_validate(data))
     failed = ctx.policy.check(PUBLISHED_M3F).failed(0)  # its peak |vx| is 0.297 m/s
     assert [f.split(":")[0] for f in failed] == ["velocity_limit"]
     assert "|vx| <= Vplx" in failed[0]
@@ -95,7 +95,7 @@ def _robot(raw_params, edit) -> Params:
 def test_landing_beyond_ppl_is_an_infeasible_robot(raw_params):
     params = _robot(raw_params, lambda r: r.update(landing={"x": 0.2, "z": 0.0}))
     with pytest.raises(InfeasibleRobotError) as err:
-        robot_context(params)
+        context_of(params)
     assert "robots.mst_m3f.landing" in str(err.value)
     assert "landing beyond Ppl" in str(err.value)
 
@@ -103,7 +103,7 @@ def test_landing_beyond_ppl_is_an_infeasible_robot(raw_params):
 def test_lower_bound_above_upper_names_the_variable_and_rules(raw_params):
     params = _robot(raw_params, lambda r: r["min_detachment"].update(hd=0.07))
     with pytest.raises(InfeasibleRobotError, match=r"P5z has no room: hd < P5z and P5z < Pplz"):
-        robot_context(params)
+        context_of(params)
 
 
 def test_md_height_is_one_and_a_half_bend_radii(params):
@@ -118,7 +118,7 @@ def test_vertical_detachment_needs_zero_ld(raw_params):
     data["robot"] = "mst_q"
     data["robots"]["mst_q"]["min_detachment"]["ld"] = 0.002
     with pytest.raises(InfeasibleRobotError, match="vertical detachment needs ld = 0"):
-        robot_context(Params.model_validate(data))
+        context_of(Params.model_validate(data))
 
 
 def test_screen_agrees_with_full_check(m3f):

@@ -7,7 +7,7 @@ import pytest
 
 from ftfof.config import Params
 from ftfof.objectives import fs6_bending
-from ftfof.robot import robot_context
+from ftfof.pipeline.bench import context_of
 from ftfof.trajectory.rules import (
     curvature_radius,
     md_path_violation,
@@ -32,7 +32,7 @@ def _policy(raw_params, n_t=256, robot="mst_m3f", **constraints):
     data["robot"] = robot
     data["feasibility"]["n_t"] = n_t
     data["robots"][robot]["constraints"].update(constraints)
-    return robot_context(Params.model_validate(data)).policy
+    return context_of(Params.model_validate(data)).policy
 
 
 def _circle(radius, turns, n):

@@ -1,0 +1,160 @@
+"""The adhesive pad in the Exudyn system: the film and its bond connectors (docs/simulator.md).
+
+- film: ANCF cable elements (exact EI, EA) lying on the plate ahead of the foot, x in [0, lf],
+  each with a curvature stop (:func:`_bending_moment`) that the solver loop arms only while the
+  element is bent near it (the symbolic moment law costs +70 % run time when always on), and
+  its first ``grip_length`` clamped to the foot (pinned at every film node inside the grip, and
+  the last clamped element held straight with the sole: :func:`ftfof.sim.film.clamp_pins`);
+- one cohesive bond connector per film node (law in :mod:`ftfof.sim.bonds`), all sharing one
+  symbolic user function; their state lives in the connector parameters (stiffness =
+  [K_t A, K A, Kc A], damping = [broken, phi * R, 0], offset = [anchor, 0, 0]).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import exudyn as exu
+import numpy as np
+from exudyn.advancedUtilities import CreateSymbolicUserFunction
+from exudyn.itemInterface import (
+    CartesianSpringDamper,
+    LoadMassProportional,
+    MarkerBodyMass,
+    MarkerBodyPosition,
+    MarkerNodePosition,
+    NodePoint2DSlope1,
+    ObjectANCFCable2D,
+    ObjectJointRevolute2D,
+)
+
+from ftfof.config import GRAVITY, FilmMechanics
+from ftfof.sim import film as film_shape
+from ftfof.sim.bonds import BondLaw, contact_pressure
+
+esym = exu.symbolic
+Real = esym.Real
+
+
+def add_film(
+    mbs: Any,
+    film: FilmMechanics,
+    x_ref: np.ndarray,
+    dx: float,
+    foot_body: Any,
+    ankle_height: float,
+    grip: float,
+) -> tuple[list[Any], list[Any], Any]:
+    """The film's nodes at ``x_ref``, its elements under gravity, clamped over ``grip`` to the
+    foot's sole; returns (nodes, elements, curvature-stop law)."""
+    n = len(x_ref) - 1
+    nodes = [mbs.AddNode(NodePoint2DSlope1(referenceCoordinates=[x, 0.0, 1.0, 0.0])) for x in x_ref]
+    elements = [
+        mbs.AddObject(
+            ObjectANCFCable2D(
+                nodeNumbers=[nodes[i], nodes[i + 1]],
+                length=dx,
+                massPerLength=film.mass_per_length,
+                bendingStiffness=film.bending_stiffness,
+                axialStiffness=film.axial_stiffness,
+                bendingDamping=film.bending_damping,
+                axialDamping=film.axial_damping,
+                useReducedOrderIntegration=1,
+            )
+        )
+        for i in range(n)
+    ]
+    stop = CreateSymbolicUserFunction(
+        mbs, _bending_moment(film), "bendingMomentUserFunction", itemTypeName="ObjectANCFCable2D"
+    )
+    for e in elements:
+        mbs.AddLoad(
+            LoadMassProportional(
+                markerNumber=mbs.AddMarker(MarkerBodyMass(bodyNumber=e)),
+                loadVector=[0.0, -GRAVITY, 0.0],
+            )
+        )
+    for x in film_shape.clamp_pins(x_ref, grip):
+        e = min(int(x // dx + 1e-9), n - 1)
+        on_film = mbs.AddMarker(
+            MarkerBodyPosition(bodyNumber=elements[e], localPosition=[x - e * dx, 0.0, 0.0])
+        )
+        on_foot = mbs.AddMarker(
+            MarkerBodyPosition(bodyNumber=foot_body, localPosition=[x, -ankle_height, 0.0])
+        )
+        mbs.AddObject(ObjectJointRevolute2D(markerNumbers=[on_foot, on_film]))
+    return nodes, elements, stop
+
+
+def _bending_moment(film: FilmMechanics) -> Any:
+    """Linear bending (EI, damping) plus a curvature stop: past 1 / stop_radius the moment
+    rises ``stop_stiffness`` times faster, so the film cannot be folded flat at no cost."""
+    limit, gain = 1.0 / film.stop_radius, film.stop_stiffness
+
+    def bending_moment(
+        mbs,
+        t,
+        itemNumber,
+        axialPositionNormalized,
+        curvature,
+        curvature_t,
+        curvatureRef,
+        bendingStiffness,
+        bendingDamping,
+        axialStrain,
+        axialStrain_t,
+        axialStrainRef,
+    ):
+        k = curvature - curvatureRef
+        over = esym.max(esym.abs(k) - Real(limit), Real(0.0)) * esym.sign(k)
+        return bendingStiffness * (k + Real(gain) * over) + bendingDamping * curvature_t
+
+    return bending_moment
+
+
+def add_bonds(
+    mbs: Any,
+    law: BondLaw,
+    film_nodes: list[Any],
+    x_ref: np.ndarray,
+    area: np.ndarray,
+    initial_pressure: float,
+    plate_marker: Any,
+) -> tuple[list[Any], Any]:
+    """One bond connector per film node, bonded with the preload of ``initial_pressure``;
+    returns (connectors, their shared symbolic force law, which must outlive the solve)."""
+    w, hc, mu, vf = law.contact_smoothing, law.hunt_crossley, law.friction, law.friction_speed
+
+    def bond_force(mbs, t, itemNumber, u, v, k, d, offset):
+        bonded = (Real(1.0) - d[0]) * d[1]
+        contact = contact_pressure(u[1], v[1], k[2], w, hc, esym.max, esym.min)
+        fn = bonded * k[1] * u[1] - contact
+        ft = bonded * k[0] * u[0] + d[0] * mu * contact * esym.tanh(v[0] / vf)
+        return [ft, fn, 0]
+
+    phi0 = float(law.preload_factor(initial_pressure))
+    connectors: list[Any] = []
+    shared = None
+    for i, node in enumerate(film_nodes):
+        obj = mbs.AddObject(
+            CartesianSpringDamper(
+                markerNumbers=[plate_marker, mbs.AddMarker(MarkerNodePosition(nodeNumber=node))],
+                stiffness=[
+                    law.shear_stiffness * area[i],
+                    law.stiffness * area[i],
+                    law.contact_stiffness * area[i],
+                ],
+                damping=[0.0, phi0, 0.0],
+                offset=[x_ref[i], 0.0, 0.0],
+            )
+        )
+        if shared is None:
+            shared = CreateSymbolicUserFunction(
+                mbs,
+                bond_force,
+                "springForceUserFunction",
+                itemTypeName="ObjectConnectorCartesianSpringDamper",
+            )
+        mbs.SetObjectParameter(obj, "springForceUserFunction", shared)
+        connectors.append(obj)
+    return connectors, shared

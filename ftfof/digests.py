@@ -54,8 +54,3 @@ def models_digest(directory: Path) -> str:
     if not directory.is_dir():
         raise DataError(str(directory), "no trained models (run `ftfof train` first)")
     return files_sha256(p for p in directory.iterdir() if p.is_file())
-
-
-def optimum_digest(directory: Path) -> str:
-    """Names an optimum.json: the optimize run carries it, the evaluate run looks it up."""
-    return file_sha256(directory / "optimum.json", 16)

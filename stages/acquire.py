@@ -10,12 +10,13 @@ from typing import Annotated
 
 import typer
 
+from ftfof.pipeline.catalog import path
 from stages.common import ParamsOption, console, stage
 
-OUT = Path("data/acquisition")
-TRAJECTORIES = Path("data/trajectories.parquet")
-METRICS = Path("reports/acquire.json")
-TIMING = Path("reports/acquire_timing.csv")
+OUT = path("acquisition")
+TRAJECTORIES = path("trajectories")
+METRICS = path("acquire_metrics")
+TIMING = path("acquire_timing")
 
 
 @stage

@@ -17,9 +17,10 @@ import typer
 from ftfof.errors import ParamsError
 from ftfof.files import write_json
 from ftfof.pipeline.calibration import FITTABLE, THIRD_BOUNDS
+from ftfof.pipeline.catalog import path
 from stages.common import ParamsOption, console, stage
 
-REPORT = Path("reports/calibration.json")
+REPORT = path("calibration")
 COMMENT = "# fitted by ftfof calibrate (reports/calibration.json)"
 HELD = "# held by ftfof calibrate --fix (reports/calibration.json)"
 

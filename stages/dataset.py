@@ -7,14 +7,14 @@ from typing import Annotated
 
 import typer
 
+from ftfof.pipeline.catalog import path
 from stages.common import ParamsOption, console, stage
 
-ACQUISITION = Path("data/acquisition")
-IMPORTED = Path("data/imported")
-OUT = Path("data/dataset")
-METRICS = Path("reports/dataset.json")
-PLOT = Path("reports/dataset_samples.png")
-FILE = "samples.parquet"
+ACQUISITION = path("acquisition")
+IMPORTED = path("imported")
+OUT = path("dataset")
+METRICS = path("dataset_metrics")
+PLOT = path("dataset_figure")
 
 
 @stage
@@ -27,16 +27,14 @@ def command(
     plot: Annotated[Path, typer.Option(help="PNG of a few samples.")] = PLOT,
 ) -> None:
     """Resample every ok sample to fixed-length sequences, split 85/15, normalise on train."""
-    import pyarrow.parquet as pq
-
-    from ftfof.files import atomic_dir, save_figure, write_json
+    from ftfof.files import save_figure, write_json
     from ftfof.pipeline.dataset import build
     from ftfof.pipeline.params_file import load_params
+    from ftfof.surrogate.store import FILE, write_dataset
 
     built = build(load_params(params_path), acquisition, imported)
     # Everything is computed; now write: the dataset directory appears whole or not at all.
-    with atomic_dir(out) as tmp:
-        pq.write_table(built.table, tmp / FILE)
+    write_dataset(out, built.table)
     write_json(metrics, built.summary)
     save_figure(built.figure, plot)
     s = built.summary

@@ -11,16 +11,17 @@ from typing import Annotated
 
 import typer
 
+from ftfof.pipeline.catalog import REPORTS, path
 from stages.common import ParamsOption, console, stage
 
-OPTIMIZE = Path("data/polish/optimize")
-MODELS = Path("data/refine/models")
-REFINE = Path("reports/refine.json")
-OUT = Path("data/evaluate")
-REPORT = Path("reports/evaluate.html")
-METRICS = Path("reports/metrics.json")
-EXPORT = Path("reports/optimum_trajectory.csv")
-FIGURES = Path("reports")
+OPTIMIZE = path("polish_optimize")
+MODELS = path("refine_models")
+REFINE = path("refine_report")
+OUT = path("evaluate")
+REPORT = path("report")
+METRICS = path("metrics")
+EXPORT = path("export")
+FIGURES = REPORTS  # the PNGs the earlier stages wrote
 
 
 @stage

@@ -7,9 +7,10 @@ from typing import Annotated
 
 import typer
 
+from ftfof.pipeline import catalog
 from stages.common import ParamsOption, console, stage
 
-OUT = Path("data/imported")
+OUT = catalog.path("imported")
 
 
 @stage

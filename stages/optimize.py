@@ -11,14 +11,15 @@ from typing import Annotated
 
 import typer
 
+from ftfof.pipeline.catalog import path
 from stages.common import ParamsOption, console, progress, stage
 
-MODELS = Path("data/models")
-OUT = Path("data/optimize")
-METRICS = Path("reports/optimize.json")
-CONVERGENCE = Path("reports/optimize_convergence.csv")
-STAR = Path("reports/optimize_star.png")
-PCP = Path("reports/optimize_pcp.png")
+MODELS = path("models")
+OUT = path("optimize")
+METRICS = path("optimize_metrics")
+CONVERGENCE = path("optimize_convergence")
+STAR = path("optimize_star")
+PCP = path("optimize_pcp")
 
 
 @stage

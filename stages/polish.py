@@ -11,12 +11,13 @@ from typing import Annotated
 
 import typer
 
+from ftfof.pipeline.catalog import path
 from stages.common import ParamsOption, console, stage
 
-OPTIMIZE = Path("data/refine/optimize")
-MODELS = Path("data/refine/models")
-OUT = Path("data/polish")
-REPORT = Path("reports/polish.json")
+OPTIMIZE = path("refine_optimize")
+MODELS = path("refine_models")
+OUT = path("polish")
+REPORT = path("polish_report")
 
 
 @stage

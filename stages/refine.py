@@ -11,14 +11,15 @@ from typing import Annotated
 
 import typer
 
+from ftfof.pipeline.catalog import path
 from stages.common import ParamsOption, console, stage
 
-DATASET = Path("data/dataset")
-MODELS = Path("data/models")
-OPTIMIZE = Path("data/optimize")
-OUT = Path("data/refine")
-REPORT = Path("reports/refine.json")
-FIGURE = Path("reports/refine_fidelity.png")
+DATASET = path("dataset")
+MODELS = path("models")
+OPTIMIZE = path("optimize")
+OUT = path("refine")
+REPORT = path("refine_report")
+FIGURE = path("refine_figure")
 
 
 @stage

@@ -9,10 +9,11 @@ from typing import Annotated
 import typer
 
 from ftfof.files import write_json, write_parquet
+from ftfof.pipeline.catalog import path
 from stages.common import ParamsOption, console, progress, stage
 
-OUT = Path("data/trajectories.parquet")
-METRICS = Path("reports/sample.json")
+OUT = path("trajectories")
+METRICS = path("sample_metrics")
 
 
 @stage

@@ -8,9 +8,11 @@ from typing import Annotated
 import typer
 
 from ftfof.files import atomic_path, save_figure
+from ftfof.pipeline import catalog
 from stages.common import ParamsOption, console, stage
 
-OUT_DIR = Path("reports/simulate")
+OUT_DIR = catalog.path("simulate")
+TRAJECTORIES = catalog.path("trajectories")
 
 
 @stage
@@ -22,9 +24,7 @@ def command(
     ] = None,
     unit: Annotated[str, typer.Option(help="Unit of --points: m or mm.")] = "m",
     row: Annotated[int | None, typer.Option(help="A row of --trajectories.")] = None,
-    trajectories: Annotated[Path, typer.Option(help="Table for --row.")] = Path(
-        "data/trajectories.parquet"
-    ),
+    trajectories: Annotated[Path, typer.Option(help="Table for --row.")] = TRAJECTORIES,
     baseline: Annotated[
         str | None, typer.Option(help="polynomial | cycloidal | random_bezier | eps_bezier.")
     ] = None,

@@ -7,13 +7,14 @@ from typing import Annotated
 
 import typer
 
+from ftfof.pipeline.catalog import path
 from stages.common import ParamsOption, console, stage
 
-DATASET = Path("data/dataset")
-OUT = Path("data/models")
-METRICS = Path("reports/train_metrics.json")
-LOSS_PLOT = Path("reports/train_loss.png")
-PRED_PLOT = Path("reports/train_predictions.png")
+DATASET = path("dataset")
+OUT = path("models")
+METRICS = path("train_metrics")
+LOSS_PLOT = path("train_loss")
+PRED_PLOT = path("train_predictions")
 
 
 @stage

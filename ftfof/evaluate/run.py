@@ -13,19 +13,19 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from ftfof.config import Params
+from ftfof.config import Evaluate as EvaluateSettings
+from ftfof.config import Solver
 from ftfof.data import targets
 from ftfof.data.dataset import CHANNELS
 from ftfof.data.faults import foot_faults
 from ftfof.errors import DataError, SimulationError
-from ftfof.evaluate.choice import TABLE_ANALOGUE, Candidate, choice_summary, rhs_candidates
+from ftfof.evaluate.choice import Candidate, choice_summary, rhs_candidates
 from ftfof.evaluate.export import ControllerTrajectory, ExportRateError, controller_trajectory
 from ftfof.evaluate.fidelity import Fidelity, fidelity, simulated_objectives
 from ftfof.evaluate.film_check import FILM, FilmCheck
-from ftfof.evaluate.step_check import CHECKED, FINE, StepCheck, checked_figures, step_check
+from ftfof.evaluate.step_check import FINE, StepCheck, checked_figures, step_check
 from ftfof.evaluate.table import COLUMNS, PAPER_TABLE_I, PEAKS, TableRow, table_one
 from ftfof.kinematics.legs import build_leg
-from ftfof.optimize.polish import POLISH
 from ftfof.optimize.select import FRONT
 from ftfof.robot import RobotContext
 from ftfof.rules import FootRules
@@ -35,19 +35,6 @@ from ftfof.trajectory.bezier import DECISION_NAMES
 
 OPTIMUM = "optimum"
 PAPER_OPTIMUM = "baseline:paper_optimum"  # the published optimum, simulated, never fitted
-PARETO = (
-    ("optimize_star.png", "Pareto front, star coordinates (cf. FTFOF Fig. 10)"),
-    ("optimize_pcp.png", "Pareto front, parallel coordinates"),
-    ("optimize_convergence.png", "NSGA-II convergence: normalised hypervolume, feasible count"),
-)
-TRAINING = (
-    ("train_loss.png", "Training and validation loss per model (cf. FTFOF Fig. 8)"),
-    ("train_predictions.png", "Validation predictions against simulation (cf. FTFOF Fig. 9)"),
-)
-REFINEMENT = (
-    ("refine_fidelity.png", "Fidelity on each refinement round's points, before training on them"),
-)
-PLOTTED = ("t", "x_cmd", "z_cmd", "Fd", "Fp", "body_acc")  # channels the report's figures use
 
 
 @dataclass
@@ -109,11 +96,10 @@ def run_name(source: str, sample_id: int) -> str:
 
 
 def checked_on_both_films(
-    params: Params, ctx: RobotContext, table: pd.DataFrame, film: pd.DataFrame
+    check: int | None, nodes: int, ctx: RobotContext, table: pd.DataFrame, film: pd.DataFrame
 ) -> FilmCheck | None:
-    """Every successful run's min bend radius at the acquisition's node count (``table``) and on
-    ``evaluate.check_nodes`` elements (``film``); None without a check film."""
-    check = params.evaluate.check_nodes
+    """Every successful run's min bend radius at the acquisition's ``nodes`` (``table``) and on
+    ``check`` elements (``film``); None without a check film."""
     if check is None:
         return None
 
@@ -125,7 +111,7 @@ def checked_on_both_films(
         }
 
     fc = ctx.robot.foot.film_min_bend_radius
-    return FilmCheck(params.acquire.solver.nodes, check, fc, radii(table), radii(film))
+    return FilmCheck(nodes, check, fc, radii(table), radii(film))
 
 
 def compared(df: pd.DataFrame, reference: str) -> dict[str, pd.Series]:
@@ -158,12 +144,11 @@ def table_rows(df: pd.DataFrame, reference: str, T3: float) -> list[TableRow]:
 
 
 def checked_at_both_steps(
-    params: Params, table: pd.DataFrame, fine: pd.DataFrame, T3: float
+    cfg: EvaluateSettings, step: float, table: pd.DataFrame, fine: pd.DataFrame, T3: float
 ) -> StepCheck | None:
-    """Table I's trajectories at the acquisition's step (``table``, its successful runs) and at
-    ``evaluate.check_step`` (``fine``); a run that failed at the check step is left out and
+    """Table I's trajectories at the acquisition's ``step`` (``table``, its successful runs) and
+    at ``evaluate.check_step`` (``fine``); a run that failed at the check step is left out and
     named. None without a check step."""
-    cfg = params.evaluate
     if cfg.check_step is None:
         return None
     at_step = {
@@ -174,7 +159,7 @@ def checked_at_both_steps(
         table_name(row.source): checked_figures(channels(row), row, T3)
         for _, row in fine[fine.status == "ok"].iterrows()
     }
-    return step_check(at_step, at_check, cfg.reference, params.acquire.solver.step, cfg.check_step)
+    return step_check(at_step, at_check, cfg.reference, step, cfg.check_step)
 
 
 def front_members(
@@ -310,14 +295,15 @@ def export(ctx: RobotContext, inputs: Inputs, rate: float) -> ControllerTrajecto
 
 
 def metrics(
-    params: Params,
+    cfg: EvaluateSettings,
+    robot: str,
+    surface: str,
     inputs: Inputs,
     rows: list[TableRow],
     fid: list[Fidelity],
     controller: ControllerTrajectory,
     n_fidelity: int,
     front: dict[str, Any],
-    candidates: list[Candidate],
 ) -> dict[str, Any]:
     """The stage's metrics: Table I changes, the paper's, fidelity, the choice and the export."""
 
@@ -330,191 +316,65 @@ def metrics(
 
     paper = {r.trajectory: r for r in table_one(PAPER_TABLE_I, "polynomial")}["optimal"]
     return {
-        "robot": params.robot,
-        "surface": params.surface,
-        "reference": params.evaluate.reference,
+        "robot": robot,
+        "surface": surface,
+        "reference": cfg.reference,
         "table": {r.trajectory: entry(r) for r in rows},
         "paper_optimal_change_vs_polynomial": {c: round(paper.change[c], 2) for c, _, _ in PEAKS},
         "fidelity": {f.objective: f.as_dict() for f in fid},
         "fidelity_points": n_fidelity,
         "front_simulated": front,
-        "choice": choice_summary(candidates),
         "optimum_front_row": inputs.optimum["front_row"],
         "optimum_origin": inputs.optimum[
             "origin"
         ],  # front, or the refine round it was simulated in
         "export": {
             "rows": int(controller.table.shape[0]),
-            "rate_hz": params.evaluate.export_rate_hz,
+            "rate_hz": cfg.export_rate_hz,
             "within_joint_limits": controller.within_joint_limits,
             "peak_joint_speed": [round(float(v), 4) for v in controller.peak_joint_speed],
         },
     }
 
 
-def simulation_figures(
-    df: pd.DataFrame,
-    predicted: np.ndarray,
-    simulated: np.ndarray,
-    objectives: list[str],
-    reference: str,
-    rows: list[TableRow],
-    candidates: list[Candidate],
-) -> dict[str, str]:
-    """Fig. 11, 12, 14 from the simulated channels of the optimum and baselines; fidelity; the
-    choice among the simulated candidates (when there were any), with the reference trajectory
-    and the published optimum placed by their Table I values."""
-    from ftfof.report.evaluation import fidelity_figure, forces_figure, jitter_figure, paths_figure
-    from ftfof.report.html import figure_data_uri
-
-    channels = {
-        name: {c: np.asarray(row[c], dtype=float) for c in PLOTTED}
-        for name, row in compared(df, reference).items()
-    }
-    figures = {
-        "paths": figure_data_uri(paths_figure(channels, OPTIMUM)),
-        "forces": figure_data_uri(forces_figure(channels, OPTIMUM)),
-        "jitter": figure_data_uri(jitter_figure(channels, OPTIMUM)),
-        "fidelity": figure_data_uri(fidelity_figure(objectives, predicted, simulated, 0)),
-    }
-    if candidates:
-        figures["choice"] = figure_data_uri(_choice_figure(objectives, rows, reference, candidates))
-    return figures
-
-
-def _choice_figure(
-    objectives: list[str], rows: list[TableRow], reference: str, candidates: list[Candidate]
-):
-    """The choice on the first two priorities; the reference trajectory and the published optimum
-    placed where Table I measures those objectives on one nominal run, if it does."""
-    from ftfof.report.evaluation import choice_figure
-
-    axes = (objectives[0], objectives[1])
-    columns = [TABLE_ANALOGUE.get(name) for name in axes]
-    placed: dict[str, tuple[float, float]] = {}
-    if None not in columns:
-        table = {r.trajectory: r.values for r in rows}
-        for name in (reference, table_name(PAPER_OPTIMUM)):
-            if name in table:
-                placed[name] = (table[name][columns[0]], table[name][columns[1]])
-    return choice_figure(candidates, axes, placed)
-
-
-def context(
-    params: Params,
-    ctx: RobotContext,
-    inputs: Inputs,
-    rows: list[TableRow],
-    fid: list[Fidelity],
-    summary: dict[str, Any],
-    predicted: np.ndarray,
-    simulated: np.ndarray,
-    candidates: list[Candidate],
-) -> dict[str, Any]:
-    """The report template's values, but for the figures and the export path."""
-    import exudyn
-
-    export = summary["export"]
-    return {
-        "robot": ctx.name,
-        "surface": params.surface,
-        "models_digest": inputs.optimum["models_digest"],
-        "exudyn": exudyn.__version__,
-        "optimum_row": inputs.optimum["front_row"],
-        "optimum_origin": inputs.optimum["origin"],
-        "front_size": int((inputs.front.origin == FRONT).sum()),
-        "nominees": int(((inputs.front.origin != FRONT) & (inputs.front.origin != POLISH)).sum()),
-        "polished": int((inputs.front.origin == POLISH).sum()),
-        "reference": params.evaluate.reference,
-        "columns": [
-            {
-                "key": c,
-                "label": label,
-                **({"unit": "mm", "scale": 1e3} if unit == "m" else {"unit": unit, "scale": 1.0}),
-            }
-            for c, label, unit in COLUMNS
-        ],
-        "front_simulated": summary["front_simulated"],
-        "choice": _choice_context(
-            inputs.optimum["rhs"], candidates, inputs.objectives[0], summary["choice"]
-        ),
-        "paper_columns": [{"key": c, "label": label} for c, label, _ in PEAKS],
-        "step_check": summary["step_check"],
-        "film_check": summary["film_check"],
-        "step_columns": [{"key": c, "label": label, "unit": unit} for c, label, unit in CHECKED],
-        "step_labels": {c: label for c, label, _ in CHECKED},
-        "table": [
-            {"trajectory": r.trajectory, "values": r.values, "change": r.change} for r in rows
-        ],
-        "paper": summary["paper_optimal_change_vs_polynomial"],
-        "fidelity": [{"objective": f.objective, **f.as_dict()} for f in fid],
-        "front_points": len(predicted) - 1,
-        "objectives": inputs.objectives,
-        "optimum_predicted": predicted[0].tolist(),
-        "optimum_simulated": simulated[0].tolist(),
-        "pareto": PARETO,
-        "training": TRAINING,
-        "refinement": REFINEMENT,
-        "export": {
-            "rows": export["rows"],
-            "rate": export["rate_hz"],
-            "duration": float(ctx.policy.timing.T3),
-            "leg": ctx.robot.leg.type,
-            "within_limits": export["within_joint_limits"],
-            "peak_speed": ", ".join(f"{v:.2f}" for v in export["peak_joint_speed"]),
-        },
-    }
-
-
-def _choice_context(
-    rhs: dict[str, Any], candidates: list[Candidate], first: str, summary: dict[str, Any]
-) -> dict[str, Any]:
-    """The choice's table (sorted by the ``first`` priority), its ``summary`` (the metrics) and
-    RHS's visits, for the template."""
-    return {
-        "summary": summary,
-        "candidates": sorted(candidates, key=lambda c: (c.mean[first], c.row)),
-        "alpha": rhs["alpha"],
-        "beta": rhs["beta"],
-        "resolution": rhs["resolution"],
-        "steps": [{**s, "kept": len(s["remaining"])} for s in rhs["steps"]],
-        "tie_break": rhs["tie_break"],
-    }
-
-
 @dataclass
 class Evaluation:
+    """What the re-simulations say: the metrics and the parts the report draws."""
+
     summary: dict[str, Any]  # the stage's metrics
-    context: dict[str, Any]  # the report's values but the figures and the export path
-    figures: dict[str, str]  # the figures from the simulations, as data URIs
+    table: pd.DataFrame  # the successful runs at the acquisition's settings
+    rows: list[TableRow]  # the Table I analogue
+    fidelity: list[Fidelity]
+    predicted: np.ndarray  # (runs, objectives) as the optimiser saw them; the optimum is row 0
+    simulated: np.ndarray  # the same from the simulated forces
+    candidates: list[Candidate]  # the simulator-checked candidates RHS chose among
     controller: ControllerTrajectory  # the optimum for the robot's controller
 
 
 def evaluate(
-    params: Params,
+    cfg: EvaluateSettings,
+    solver: Solver,
+    surface: str,
     ctx: RobotContext,
     inputs: Inputs,
     simulations: pd.DataFrame,
     surrogate: Surrogate,
 ) -> Evaluation:
-    """Everything the report shows, from the re-simulations of the optimum, front and baselines."""
-    cfg = params.evaluate
+    """Everything the report shows, from the re-simulations of the optimum, front and baselines
+    (run with the acquisition's ``solver`` on ``surface``)."""
     at_step, fine, on_film = split_runs(simulations)
     table = ok_rows(at_step, cfg.reference)
     T3 = ctx.policy.timing.T3
     rows = table_rows(table, cfg.reference, T3)
-    steps = checked_at_both_steps(params, table, fine, T3)
-    films = checked_on_both_films(params, ctx, table, on_film)
+    steps = checked_at_both_steps(cfg, solver.step, table, fine, T3)
+    films = checked_on_both_films(cfg.check_nodes, solver.nodes, ctx, table, on_film)
     front = judged_front(ctx, table, films)
     fid, predicted, simulated = fidelity_of(inputs, table, ctx, surrogate)
     controller = export(ctx, inputs, cfg.export_rate_hz)
     n_fidelity = len(predicted) - (0 if from_front(inputs) else 1)
     candidates = rhs_candidates(inputs.optimum, inputs.objectives)
-    summary = metrics(params, inputs, rows, fid, controller, n_fidelity, front, candidates)
+    summary = metrics(cfg, ctx.name, surface, inputs, rows, fid, controller, n_fidelity, front)
+    summary["choice"] = choice_summary(candidates)
     summary["step_check"] = None if steps is None else steps.as_dict(OPTIMUM)
     summary["film_check"] = None if films is None else films.as_dict()
-    figures = simulation_figures(
-        table, predicted, simulated, inputs.objectives, cfg.reference, rows, candidates
-    )
-    values = context(params, ctx, inputs, rows, fid, summary, predicted, simulated, candidates)
-    return Evaluation(summary, values, figures, controller)
+    return Evaluation(summary, table, rows, fid, predicted, simulated, candidates, controller)

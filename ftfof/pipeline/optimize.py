@@ -3,7 +3,6 @@ and its MLflow run (open for the whole search, so the hypervolume can be watched
 
 from __future__ import annotations
 
-import json
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -11,11 +10,10 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
-import pyarrow.parquet as pq
 
-from ftfof.config import Optimize, Params
-from ftfof.digests import models_digest, optimum_digest
-from ftfof.files import atomic_dir, atomic_path, save_figure, write_json
+from ftfof.config import Params
+from ftfof.digests import models_digest
+from ftfof.files import atomic_path, save_figure, write_json
 from ftfof.optimize.problem import TrajectoryProblem, asked_limits
 from ftfof.optimize.search import (
     ConvergenceRecord,
@@ -28,10 +26,9 @@ from ftfof.optimize.select import (
     Outcome,
     choose,
     convergence_csv,
-    front_table,
-    optimum_record,
 )
 from ftfof.pipeline import tracking
+from ftfof.pipeline.artefacts import optimum_digest, write_optimum
 from ftfof.pipeline.bench import context_of
 from ftfof.pipeline.console import console
 from ftfof.pipeline.registry import RegisteredWeights, fetch_model
@@ -132,15 +129,6 @@ def build_setup(
     return Setup(ctx, problem, settings, initial, digest, registered)
 
 
-def write_front(out: Path, outcome: Outcome, ctx: RobotContext, digest: str, cfg: Optimize) -> None:
-    """``front.parquet`` and ``optimum.json`` in ``out``, all or nothing: what evaluate reads.
-    ``digest`` names the surrogates that predicted the front's objectives."""
-    with atomic_dir(out) as tmp:
-        pq.write_table(front_table(outcome, ctx, digest), tmp / "front.parquet")
-        optimum = optimum_record(outcome, ctx, cfg, digest)
-        (tmp / "optimum.json").write_text(json.dumps(optimum, indent=2, sort_keys=True) + "\n")
-
-
 def write_outputs(
     outcome: Outcome, setup: Setup, result: SearchResult, params: Params, to: Outputs
 ):
@@ -155,7 +143,7 @@ def write_outputs(
         to.pcp: pcp_figure(F, names, chosen, title),
     }
     records = [r.as_dict() for r in result.history]
-    write_front(to.out, outcome, setup.ctx, setup.models_digest, params.optimize)
+    write_optimum(to.out, outcome, setup.ctx, setup.models_digest, params.optimize)
     write_json(to.metrics, outcome.summary)
     with atomic_path(to.convergence) as path:
         path.write_text(convergence_csv(records))

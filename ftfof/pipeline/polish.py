@@ -20,16 +20,24 @@ from typing import Any
 import numpy as np
 
 from ftfof.config import Params
-from ftfof.digests import bytes_sha256, models_digest, optimum_digest
+from ftfof.digests import bytes_sha256, models_digest
 from ftfof.evaluate.run import Inputs, decision
 from ftfof.files import atomic_dir, write_json
 from ftfof.optimize.polish import POLISH, Polished, polish
 from ftfof.optimize.search import SearchSettings
 from ftfof.optimize.select import Outcome, SimulatorCheck, Verdict, fine_policy, rhs_on_verdicts
 from ftfof.pipeline import tracking
+from ftfof.pipeline.artefacts import (
+    FRONT_FILE,
+    OPTIMUM_FILE,
+    POLISH_READS,
+    check_models,
+    optimum_digest,
+    read_optimum,
+    write_optimum,
+)
 from ftfof.pipeline.bench import context_of
 from ftfof.pipeline.console import console
-from ftfof.pipeline.evaluate import POLISH_READS, check_models, read_inputs
 from ftfof.pipeline.jobs import close_resumable, open_resumable
 from ftfof.robot import RobotContext
 from ftfof.seeds import seed_for
@@ -62,7 +70,7 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> dict[str, A
             update={"acquire": params.acquire.model_copy(update={"workers": workers})}
         )
     ctx = context_of(params)
-    inputs = read_inputs(paths.optimize, ctx.name, POLISH_READS)
+    inputs = read_optimum(paths.optimize, ctx.name, POLISH_READS)
     check_models(inputs, paths.optimize, paths.models)
     identity = {
         "params": params.model_dump(
@@ -82,7 +90,7 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> dict[str, A
     if not report["polished"]:
         console.print(f"[yellow]polish: {report['reason']}; refine's optimum is passed on as it is")
         with atomic_dir(paths.out / OPTIMUM) as tmp:
-            for name in ("front.parquet", "optimum.json"):
+            for name in (FRONT_FILE, OPTIMUM_FILE):
                 shutil.copy(paths.optimize / name, tmp / name)
     report["seconds"] = round(time.perf_counter() - started, 2)
     write_json(paths.report, report)
@@ -200,9 +208,8 @@ def _outcome(
 
 
 def _write(out: Path, outcome: Outcome, ctx: RobotContext, inputs: Inputs, params: Params):
-    from ftfof.pipeline.optimize import write_front
 
-    write_front(out, outcome, ctx, inputs.optimum["models_digest"], params.optimize)
+    write_optimum(out, outcome, ctx, inputs.optimum["models_digest"], params.optimize)
 
 
 def _report(

@@ -38,7 +38,7 @@ from ftfof.data import dataset as ds
 from ftfof.data import targets
 from ftfof.data.acquisition import ACQUISITION
 from ftfof.data.refinement import grow, round_rows
-from ftfof.digests import file_sha256, json_sha256, models_digest, optimum_digest
+from ftfof.digests import file_sha256, json_sha256, models_digest
 from ftfof.errors import DataError, SimulationError
 from ftfof.evaluate.fidelity import Fidelity, relative_error, simulated_objectives, target_met
 from ftfof.evaluate.run import (
@@ -51,16 +51,23 @@ from ftfof.evaluate.run import (
     judged_front,
     simulated_rows,
 )
+from ftfof.evaluate.specs import front_specs
 from ftfof.files import atomic_dir, read_table, save_figure, write_json
 from ftfof.optimize.select import FRONT, Nominees, rhs_ranking
 from ftfof.pipeline import tracking
+from ftfof.pipeline.artefacts import (
+    check_models,
+    optimum_digest,
+    read_optimum,
+    refused_rows,
+    write_optimum,
+)
 from ftfof.pipeline.bench import bench, context_of
 from ftfof.pipeline.console import console
-from ftfof.pipeline.evaluate import check_models, front_specs, read_inputs
 from ftfof.pipeline.jobs import FINAL, Acquisition, close_resumable, open_resumable
 from ftfof.robot import RobotContext
 from ftfof.seeds import seed_for
-from ftfof.surrogate.store import FILE, TrainingData, read_dataset
+from ftfof.surrogate.store import FILE, TrainingData, read_dataset, write_dataset
 from ftfof.trajectory.bezier import DECISION_NAMES, same_trajectory
 
 ROUND = "round.json"
@@ -125,7 +132,7 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> dict[str, A
     stage_started = time.perf_counter()
     ctx = context_of(params)
     data = read_dataset(paths.dataset)
-    inputs = read_inputs(paths.optimize, ctx.name)
+    inputs = read_optimum(paths.optimize, ctx.name)
     check_models(inputs, paths.optimize, paths.models)
     if (params.dataset.seq_len, params.dataset.hold) != (data.seq_len, data.hold):
         raise DataError(str(paths.dataset), "was built with other dataset params (re-run it)")
@@ -187,12 +194,12 @@ def _round(
         if not done["target_met"] and not done["nothing_new"]:
             table = read_table(rdir / "simulations" / FINAL, ACQUISITION, "simulations")
             state.measured.append(_measured(params, ctx, _ok(table), k))
-            state.refused.append(_refused(rdir / "optimize"))
+            state.refused.append(_refused(rdir / "optimize", ctx.name))
             _advance(state, rdir, _rows(params, _unseen(table, [data.table, *state.added]), k))
         return Round(done["record"], done["target_met"], 0, done["nothing_new"])
     from ftfof.surrogate.store import load_surrogate
 
-    inputs = read_inputs(state.front, ctx.name)
+    inputs = read_optimum(state.front, ctx.name)
     rows = front_sample(inputs, params.refine.points)
     table, simulated = _simulate(params, ctx, rdir / "simulations", inputs, rows, key, k, workers)
     ok = _ok(table)
@@ -223,7 +230,7 @@ def _round(
             state.measured, params.refine.nominate, params.optimize, np.vstack(state.refused)
         )
         _search(params, rdir / "models", inputs, rdir / "optimize", nominees)
-        state.refused.append(_refused(rdir / "optimize"))
+        state.refused.append(_refused(rdir / "optimize", ctx.name))
         _advance(state, rdir, new)
     record = _record(k, added, fid, clean, names, predicted[0], measured[0])
     write_json(saved, {"record": record, "target_met": met, "nothing_new": nothing_new})
@@ -291,12 +298,9 @@ def _unseen(rows: pa.Table, tables: list[pa.Table]) -> pa.Table:
     return rows.filter(pa.array(~same_trajectory(new, seen)))
 
 
-def _refused(optimize: Path) -> np.ndarray:
-    """The decision rows the round's simulator check refused (from its optimum.json)."""
-    optimum = json.loads((optimize / "optimum.json").read_text())
-    rows = [v["row"] for v in optimum["simulator_check"] if not v["ok"]]
-    front = pq.read_table(optimize / "front.parquet").to_pandas().set_index("row")
-    return front.loc[rows, list(DECISION_NAMES)].to_numpy(float).reshape(-1, len(DECISION_NAMES))
+def _refused(optimize: Path, robot: str) -> np.ndarray:
+    """The decision rows the round's simulator check refused."""
+    return refused_rows(read_optimum(optimize, robot))
 
 
 def round_target_met(
@@ -415,7 +419,7 @@ def _search(
     check, as `optimize` chooses, the ``nominees`` among the candidates -> ``out``."""
     from ftfof.optimize.search import search
     from ftfof.optimize.select import choose
-    from ftfof.pipeline.optimize import build_setup, write_front
+    from ftfof.pipeline.optimize import build_setup
     from ftfof.pipeline.simcheck import simulator_check
     from ftfof.surrogate.store import load_surrogate
 
@@ -430,7 +434,7 @@ def _search(
     result = search(setup.problem, setup.settings, setup.initial)
     check = simulator_check(params, setup.ctx)  # as optimize: the simulator disposes
     outcome = choose(params, setup.ctx, setup.problem, result, setup.models_digest, check, nominees)
-    write_front(out, outcome, setup.ctx, setup.models_digest, params.optimize)
+    write_optimum(out, outcome, setup.ctx, setup.models_digest, params.optimize)
 
 
 def _publish(paths: Paths, state: State, data: TrainingData) -> None:
@@ -441,12 +445,12 @@ def _publish(paths: Paths, state: State, data: TrainingData) -> None:
                 if item.is_file():
                     shutil.copy(item, tmp / item.name)
     original = paths.dataset / FILE
-    with atomic_dir(paths.out / "dataset") as tmp:
-        if state.added:
-            grown = grow(data.table, state.added)
-            metadata = pq.read_schema(original).metadata
-            pq.write_table(grown.replace_schema_metadata(metadata), tmp / FILE)
-        else:
+    if state.added:
+        grown = grow(data.table, state.added)
+        metadata = pq.read_schema(original).metadata
+        write_dataset(paths.out / "dataset", grown.replace_schema_metadata(metadata))
+    else:
+        with atomic_dir(paths.out / "dataset") as tmp:
             shutil.copy(original, tmp / FILE)
 
 

@@ -100,7 +100,15 @@ class TrainingData:
         return np.max(self.targets(split)[..., k], axis=-1) * self.target_scale[k]
 
 
+def write_dataset(directory: Path, table: pa.Table) -> None:
+    """The dataset ``table`` (its ftfof metadata in the schema) as ``directory``, whole or not at
+    all."""
+    with atomic_dir(directory) as tmp:
+        pq.write_table(table, tmp / FILE)
+
+
 def read_dataset(directory: Path) -> TrainingData:
+    """The dataset ``directory``, checked to be one: any problem is one DataError."""
     path = directory / FILE
     if not path.exists():
         raise DataError(str(path), "dataset not found (run `ftfof dataset` first)")

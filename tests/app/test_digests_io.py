@@ -15,10 +15,10 @@ from ftfof.digests import (
     files_sha256,
     json_sha256,
     models_digest,
-    optimum_digest,
 )
 from ftfof.errors import DataError
 from ftfof.files import atomic_dir, atomic_path, read_table, write_json
+from ftfof.pipeline.artefacts import optimum_digest
 
 
 def test_digests_are_sha256_hex_cut_to_length(tmp_path: Path):

@@ -1,5 +1,6 @@
-"""The train run's peak GPs: fitted where the rows have control values, refitted in refinement with
-the hyperparameters they had, and left to the GRU where no row has control values (logs)."""
+"""The peak GPs of :mod:`ftfof.surrogate.fit`: fitted where the rows have control values, refitted
+in refinement with the hyperparameters they had, and left to the GRU where no row has control
+values (logs)."""
 
 from __future__ import annotations
 
@@ -10,8 +11,8 @@ import pytest
 from ftfof import config
 from ftfof.data import dataset, refinement
 from ftfof.data.acquisition import to_table
-from ftfof.pipeline import training
-from ftfof.pipeline.training import fit_peaks
+from ftfof.surrogate import fit
+from ftfof.surrogate.fit import fit_peaks
 from ftfof.surrogate.peaks import NearFront, PeakModel
 from ftfof.surrogate.store import TrainingData
 from tests.data.fake import fake_acquisition, fake_result
@@ -44,7 +45,7 @@ def test_refinement_refits_on_the_grown_rows_with_the_hyperparameters_it_had(dat
     def no_new_fit(*args, **kwargs):
         raise AssertionError("a refit must not search the hyperparameters again")
 
-    monkeypatch.setattr(training, "fit_peak_model", no_new_fit)
+    monkeypatch.setattr(fit, "fit_peak_model", no_new_fit)
     again = fit_peaks(data, ["body_acc"], {"body_acc": first})["body_acc"]
     np.testing.assert_array_equal(again.length_scale, first.length_scale)
     assert again.train_inputs.shape == (len(data.peaks("train", "body_acc")), 12)
@@ -72,7 +73,7 @@ def test_refinement_adds_a_local_gp_on_the_rounds_rows_for_the_near_front_peaks(
     first = fit_peaks(data, ["Fp", "body_acc"], {})
     rounds = _from_rounds(data, 40)
     near = rounds.from_rounds("train")
-    assert near.sum() >= training.MIN_NEAR_FRONT_ROWS and not near.all()
+    assert near.sum() >= fit.MIN_NEAR_FRONT_ROWS and not near.all()
     again = fit_peaks(rounds, ["Fp", "body_acc"], first, near_front_peaks=["body_acc"])
     assert isinstance(again["body_acc"], NearFront) and isinstance(again["Fp"], PeakModel)
     local = again["body_acc"].local
@@ -83,7 +84,7 @@ def test_refinement_adds_a_local_gp_on_the_rounds_rows_for_the_near_front_peaks(
     # the next round refits the broad GP inside it, and fits a new local one
     third = fit_peaks(rounds, ["body_acc"], again, near_front_peaks=["body_acc"])["body_acc"]
     np.testing.assert_array_equal(third.broad.length_scale, first["body_acc"].length_scale)
-    few = _from_rounds(data, training.MIN_NEAR_FRONT_ROWS // 2)
+    few = _from_rounds(data, fit.MIN_NEAR_FRONT_ROWS // 2)
     alone = fit_peaks(few, ["body_acc"], first, near_front_peaks=["body_acc"])["body_acc"]
     assert isinstance(alone, PeakModel)  # too few rounds' rows for a local GP yet
 
@@ -98,5 +99,5 @@ def test_a_near_front_target_without_a_broad_gp_gets_the_local_gp_alone(data):
     assert isinstance(body, NearFront) and body.broad is None
     assert body.local.train_inputs.shape == (rounds.from_rounds("train").sum(), 12)
     assert isinstance(again["Fp"], NearFront) and again["Fp"].broad is not None
-    few = _from_rounds(data, training.MIN_NEAR_FRONT_ROWS // 2)
+    few = _from_rounds(data, fit.MIN_NEAR_FRONT_ROWS // 2)
     assert "body_acc" not in fit_peaks(few, ["Fp"], first, near_front_peaks=["body_acc"])

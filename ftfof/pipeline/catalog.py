@@ -1,0 +1,134 @@
+"""Every artefact the stages exchange: where it lives, its format and the stage that writes it,
+and what each stage reads and writes. The one place a path is spelled: the stage commands take
+their defaults from here, and a test holds dvc.yaml's deps and outs equal to it.
+
+Each format has one writer and one reader (:data:`FORMATS`, as ``module:function`` so that this
+module imports nothing heavy: the command line reads it at start-up).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+DATA = Path("data")  # DVC-tracked outputs
+REPORTS = Path("reports")  # metrics, figures and the report, beside the data
+
+
+@dataclass(frozen=True)
+class Artefact:
+    path: Path
+    format: str  # a key of FORMATS
+    writer: str  # the command that writes it
+    part_of: str | None = None  # the artefact whose directory holds it (DVC tracks that one)
+
+
+def _a(path: str, format: str, writer: str, part_of: str | None = None) -> Artefact:
+    return Artefact(Path(path), format, writer, part_of)
+
+
+ARTEFACTS: dict[str, Artefact] = {
+    "trajectories": _a("data/trajectories.parquet", "trajectories", "sample"),
+    "sample_metrics": _a("reports/sample.json", "json", "sample"),
+    "acquisition": _a("data/acquisition", "simulations", "acquire"),
+    "acquire_metrics": _a("reports/acquire.json", "json", "acquire"),
+    "acquire_timing": _a("reports/acquire_timing.csv", "csv", "acquire"),
+    "imported": _a("data/imported", "imported_logs", "import-logs"),
+    "dataset": _a("data/dataset", "dataset", "dataset"),
+    "dataset_metrics": _a("reports/dataset.json", "json", "dataset"),
+    "dataset_figure": _a("reports/dataset_samples.png", "png", "dataset"),
+    "models": _a("data/models", "models", "train"),
+    "train_metrics": _a("reports/train_metrics.json", "json", "train"),
+    "train_loss": _a("reports/train_loss.png", "png", "train"),
+    "train_predictions": _a("reports/train_predictions.png", "png", "train"),
+    "optimize": _a("data/optimize", "optimum", "optimize"),
+    "optimize_metrics": _a("reports/optimize.json", "json", "optimize"),
+    "optimize_convergence": _a("reports/optimize_convergence.csv", "csv", "optimize"),
+    "optimize_convergence_figure": _a("reports/optimize_convergence.png", "png", "optimize"),
+    "optimize_star": _a("reports/optimize_star.png", "png", "optimize"),
+    "optimize_pcp": _a("reports/optimize_pcp.png", "png", "optimize"),
+    "refine": _a("data/refine", "refine_rounds", "refine"),
+    "refine_models": _a("data/refine/models", "models", "refine", "refine"),
+    "refine_optimize": _a("data/refine/optimize", "optimum", "refine", "refine"),
+    "refine_report": _a("reports/refine.json", "refine_report", "refine"),
+    "refine_figure": _a("reports/refine_fidelity.png", "png", "refine"),
+    "polish": _a("data/polish", "polish_rounds", "polish"),
+    "polish_optimize": _a("data/polish/optimize", "optimum", "polish", "polish"),
+    "polish_report": _a("reports/polish.json", "json", "polish"),
+    "evaluate": _a("data/evaluate", "simulations", "evaluate"),
+    "report": _a("reports/evaluate.html", "html", "evaluate"),
+    "metrics": _a("reports/metrics.json", "json", "evaluate"),
+    "export": _a("reports/optimum_trajectory.csv", "csv", "evaluate"),
+    "calibration": _a("reports/calibration.json", "json", "calibrate"),
+    "simulate": _a("reports/simulate", "simulation_plots", "simulate"),
+}
+
+# format -> (writer, reader)
+FORMATS: dict[str, tuple[str, str]] = {
+    "trajectories": ("ftfof.files:write_parquet", "ftfof.files:read_table"),
+    "simulations": ("ftfof.pipeline.jobs:Acquisition", "ftfof.files:read_table"),
+    "imported_logs": ("ftfof.files:write_parquet", "ftfof.files:read_table"),
+    "dataset": ("ftfof.surrogate.store:write_dataset", "ftfof.surrogate.store:read_dataset"),
+    "models": ("ftfof.surrogate.store:write_models", "ftfof.surrogate.store:load_surrogate"),
+    "optimum": ("ftfof.pipeline.artefacts:write_optimum", "ftfof.pipeline.artefacts:read_optimum"),
+    "refine_rounds": ("ftfof.pipeline.refine:run", "ftfof.pipeline.artefacts:read_optimum"),
+    "polish_rounds": ("ftfof.pipeline.polish:run", "ftfof.pipeline.artefacts:read_optimum"),
+    "refine_report": ("ftfof.files:write_json", "ftfof.pipeline.artefacts:read_refine"),
+    "json": ("ftfof.files:write_json", "json:loads"),
+    "csv": ("ftfof.files:atomic_path", "numpy:loadtxt"),
+    "png": ("ftfof.files:save_figure", "ftfof.pipeline.artefacts:read_figure"),
+    "html": ("ftfof.files:atomic_path", "webbrowser:open"),
+    "simulation_plots": ("ftfof.files:save_figure", "webbrowser:open"),
+}
+
+# command -> (the artefacts it reads, the artefacts it writes)
+STAGES: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
+    "sample": ((), ("trajectories", "sample_metrics")),
+    "acquire": (("trajectories",), ("acquisition", "acquire_timing", "acquire_metrics")),
+    "dataset": (
+        ("acquisition", "imported"),
+        ("dataset", "dataset_metrics", "dataset_figure"),
+    ),
+    "train": (("dataset",), ("models", "train_metrics", "train_loss", "train_predictions")),
+    "optimize": (
+        ("models",),
+        (
+            "optimize",
+            "optimize_convergence",
+            "optimize_metrics",
+            "optimize_convergence_figure",
+            "optimize_star",
+            "optimize_pcp",
+        ),
+    ),
+    "refine": (
+        ("dataset", "models", "optimize"),
+        ("refine", "refine_report", "refine_figure"),
+    ),
+    "polish": (("refine_optimize", "refine_models"), ("polish", "polish_report")),
+    "evaluate": (
+        (
+            "refine_models",
+            "polish_optimize",
+            "refine_report",
+            "refine_figure",
+            "optimize_star",
+            "optimize_pcp",
+            "optimize_convergence_figure",
+            "train_loss",
+            "train_predictions",
+        ),
+        ("evaluate", "report", "export", "metrics"),
+    ),
+}
+
+
+def path(name: str) -> Path:
+    """Where the artefact ``name`` lives, relative to the project root."""
+    return ARTEFACTS[name].path
+
+
+def tracked(name: str) -> Path:
+    """The path DVC tracks for ``name``: its own, or that of the directory holding it."""
+    artefact = ARTEFACTS[name]
+    return path(artefact.part_of) if artefact.part_of else artefact.path

@@ -1,0 +1,168 @@
+"""The evaluation report's values and figures, from an :class:`~ftfof.evaluate.run.Evaluation`:
+what the template shows, in the template's terms."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from ftfof.evaluate.choice import TABLE_ANALOGUE, Candidate
+from ftfof.evaluate.run import OPTIMUM, PAPER_OPTIMUM, Evaluation, Inputs, compared, table_name
+from ftfof.evaluate.step_check import CHECKED
+from ftfof.evaluate.table import COLUMNS, PEAKS, TableRow
+from ftfof.optimize.polish import POLISH
+from ftfof.optimize.select import FRONT
+from ftfof.report.evaluation import (
+    choice_figure,
+    fidelity_figure,
+    forces_figure,
+    jitter_figure,
+    paths_figure,
+)
+from ftfof.report.html import figure_data_uri
+from ftfof.robot import RobotContext
+
+PARETO = (
+    ("optimize_star.png", "Pareto front, star coordinates (cf. FTFOF Fig. 10)"),
+    ("optimize_pcp.png", "Pareto front, parallel coordinates"),
+    ("optimize_convergence.png", "NSGA-II convergence: normalised hypervolume, feasible count"),
+)
+TRAINING = (
+    ("train_loss.png", "Training and validation loss per model (cf. FTFOF Fig. 8)"),
+    ("train_predictions.png", "Validation predictions against simulation (cf. FTFOF Fig. 9)"),
+)
+REFINEMENT = (
+    ("refine_fidelity.png", "Fidelity on each refinement round's points, before training on them"),
+)
+STAGE_FIGURES = (*PARETO, *TRAINING, *REFINEMENT)  # the PNGs the stages before evaluate write
+PLOTTED = ("t", "x_cmd", "z_cmd", "Fd", "Fp", "body_acc")  # channels the report's figures use
+
+
+def simulation_figures(
+    df: pd.DataFrame,
+    predicted: np.ndarray,
+    simulated: np.ndarray,
+    objectives: list[str],
+    reference: str,
+    rows: list[TableRow],
+    candidates: list[Candidate],
+) -> dict[str, str]:
+    """Fig. 11, 12, 14 from the simulated channels of the optimum and baselines; fidelity; the
+    choice among the simulated candidates (when there were any), with the reference trajectory
+    and the published optimum placed by their Table I values."""
+    channels = {
+        name: {c: np.asarray(row[c], dtype=float) for c in PLOTTED}
+        for name, row in compared(df, reference).items()
+    }
+    figures = {
+        "paths": figure_data_uri(paths_figure(channels, OPTIMUM)),
+        "forces": figure_data_uri(forces_figure(channels, OPTIMUM)),
+        "jitter": figure_data_uri(jitter_figure(channels, OPTIMUM)),
+        "fidelity": figure_data_uri(fidelity_figure(objectives, predicted, simulated, 0)),
+    }
+    if candidates:
+        figures["choice"] = figure_data_uri(_choice_figure(objectives, rows, reference, candidates))
+    return figures
+
+
+def _choice_figure(
+    objectives: list[str], rows: list[TableRow], reference: str, candidates: list[Candidate]
+):
+    """The choice on the first two priorities; the reference trajectory and the published optimum
+    placed where Table I measures those objectives on one nominal run, if it does."""
+    axes = (objectives[0], objectives[1])
+    columns = [TABLE_ANALOGUE.get(name) for name in axes]
+    placed: dict[str, tuple[float, float]] = {}
+    if None not in columns:
+        table = {r.trajectory: r.values for r in rows}
+        for name in (reference, table_name(PAPER_OPTIMUM)):
+            if name in table:
+                placed[name] = (table[name][columns[0]], table[name][columns[1]])
+    return choice_figure(candidates, axes, placed)
+
+
+def report_context(
+    ev: Evaluation, ctx: RobotContext, inputs: Inputs, surface: str, reference: str
+) -> dict[str, Any]:
+    """The report template's values and the figures drawn from the simulations, but for the
+    stages' own figures and the export path."""
+    import exudyn
+
+    summary, rows, fid, predicted, simulated = (
+        ev.summary,
+        ev.rows,
+        ev.fidelity,
+        ev.predicted,
+        ev.simulated,
+    )
+    export = summary["export"]
+    return {
+        "figures": simulation_figures(
+            ev.table, predicted, simulated, inputs.objectives, reference, rows, ev.candidates
+        ),
+        "robot": ctx.name,
+        "surface": surface,
+        "models_digest": inputs.optimum["models_digest"],
+        "exudyn": exudyn.__version__,
+        "optimum_row": inputs.optimum["front_row"],
+        "optimum_origin": inputs.optimum["origin"],
+        "front_size": int((inputs.front.origin == FRONT).sum()),
+        "nominees": int(((inputs.front.origin != FRONT) & (inputs.front.origin != POLISH)).sum()),
+        "polished": int((inputs.front.origin == POLISH).sum()),
+        "reference": reference,
+        "columns": [
+            {
+                "key": c,
+                "label": label,
+                **({"unit": "mm", "scale": 1e3} if unit == "m" else {"unit": unit, "scale": 1.0}),
+            }
+            for c, label, unit in COLUMNS
+        ],
+        "front_simulated": summary["front_simulated"],
+        "choice": _choice_context(
+            inputs.optimum["rhs"], ev.candidates, inputs.objectives[0], summary["choice"]
+        ),
+        "paper_columns": [{"key": c, "label": label} for c, label, _ in PEAKS],
+        "step_check": summary["step_check"],
+        "film_check": summary["film_check"],
+        "step_columns": [{"key": c, "label": label, "unit": unit} for c, label, unit in CHECKED],
+        "step_labels": {c: label for c, label, _ in CHECKED},
+        "table": [
+            {"trajectory": r.trajectory, "values": r.values, "change": r.change} for r in rows
+        ],
+        "paper": summary["paper_optimal_change_vs_polynomial"],
+        "fidelity": [{"objective": f.objective, **f.as_dict()} for f in fid],
+        "front_points": len(predicted) - 1,
+        "objectives": inputs.objectives,
+        "optimum_predicted": predicted[0].tolist(),
+        "optimum_simulated": simulated[0].tolist(),
+        "pareto": PARETO,
+        "training": TRAINING,
+        "refinement": REFINEMENT,
+        "export": {
+            "rows": export["rows"],
+            "rate": export["rate_hz"],
+            "duration": float(ctx.policy.timing.T3),
+            "leg": ctx.robot.leg.type,
+            "within_limits": export["within_joint_limits"],
+            "peak_speed": ", ".join(f"{v:.2f}" for v in export["peak_joint_speed"]),
+        },
+    }
+
+
+def _choice_context(
+    rhs: dict[str, Any], candidates: list[Candidate], first: str, summary: dict[str, Any]
+) -> dict[str, Any]:
+    """The choice's table (sorted by the ``first`` priority), its ``summary`` (the metrics) and
+    RHS's visits, for the template."""
+    return {
+        "summary": summary,
+        "candidates": sorted(candidates, key=lambda c: (c.mean[first], c.row)),
+        "alpha": rhs["alpha"],
+        "beta": rhs["beta"],
+        "resolution": rhs["resolution"],
+        "steps": [{**s, "kept": len(s["remaining"])} for s in rhs["steps"]],
+        "tie_break": rhs["tie_break"],
+    }

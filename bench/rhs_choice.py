@@ -1,5 +1,5 @@
 """How the simulated choice depends on RHS's alpha0 and on how many candidates are simulated,
-across runs that differ only in their seed (docs/rhs.md).
+across runs that differ only in their seed (docs/optimum.md).
 
 Every recheck-passing member of each run's final front, its nominees left out
 (``data/refine/optimize/front.parquet`` at a git revision: a commit or a ``dvc exp`` ref, read
@@ -25,9 +25,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from ftfof.optimize.select import FRONT as FRONT_ORIGIN
 from ftfof.optimize.select import Verdict, verified_rhs
-from ftfof.pipeline.bench import context_of
+from ftfof.pipeline.bench import context_of, simulator_check_of
 from ftfof.pipeline.params_file import load_params
-from ftfof.pipeline.simcheck import simulator_check
 from ftfof.trajectory.bezier import DECISION_NAMES
 
 FRONT = "data/refine/optimize/front.parquet"
@@ -46,7 +45,7 @@ def main(revs: list[str]) -> None:
     root = Path(__file__).resolve().parents[1]
     params = load_params(root / "params.yaml")
     ctx = context_of(params)
-    check = simulator_check(params, ctx)
+    check = simulator_check_of(params, ctx)
     names = list(ctx.robot.objectives)
     runs = []
     for rev in revs:

@@ -25,10 +25,10 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from ftfof.evaluate.simcheck import perturbed_runs
 from ftfof.evaluate.step_check import CHECKED, checked_figures
 from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, context_of
 from ftfof.pipeline.params_file import parse_params, read_yaml
-from ftfof.pipeline.simcheck import perturbed_runs
 from ftfof.sim.simulate import simulate
 from ftfof.trajectory.bezier import DECISION_NAMES
 

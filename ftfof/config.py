@@ -385,7 +385,8 @@ class Dataset(Strict):
 
 
 class Train(Strict):
-    """Multi-output GRU surrogates, trained with DILATE and/or MSE (FTFOF §IV.B; README, train)."""
+    """Multi-output GRU surrogates, trained with DILATE and/or MSE (FTFOF §IV.B;
+    docs/surrogates.md)."""
 
     hidden: PositiveInt = 64
     layers: PositiveInt = 2
@@ -483,7 +484,7 @@ class Polish(Strict):
 
 
 class Evaluate(Strict):
-    """Re-simulation of the optimum against the baselines, and the controller export (§11)."""
+    """Re-simulation of the optimum against the baselines, and the controller export."""
 
     front_points: NonNegativeInt = 20  # front members re-simulated for fidelity
     export_rate_hz: Annotated[float, Field(gt=0, le=100_000)] = 500.0  # controller CSV rate
@@ -527,7 +528,7 @@ class Base(Strict):
 
 
 class Feasibility(Strict):
-    """How the sampled trajectory is checked (FTFOF §III.B; README, sample)."""
+    """How the sampled trajectory is checked (FTFOF §III.B; docs/pipeline.md)."""
 
     n_t: Annotated[int, Field(ge=16)] = 256  # time samples over [0, T3]
     position_tolerance: NonNegativeFloat = 1e-6  # m

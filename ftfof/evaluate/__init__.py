@@ -1,1 +1,1 @@
-"""Simulator-verified evaluation: Table I analogue, surrogate fidelity, controller export (§11)."""
+"""Simulator-verified evaluation: Table I analogue, surrogate fidelity, controller export."""

@@ -3,7 +3,7 @@ trajectories the simulator check passed.
 
 The surrogate search ends where the surrogates stop telling near neighbours apart: the pull and
 jitter GRUs err by more than the differences RHS weighs at the front's best, and jitter is rough
-on the scale of a 0.2 mm encoder error (docs/rhs.md). A few generations of NSGA-II on the
+on the scale of a 0.2 mm encoder error (docs/optimum.md). A few generations of NSGA-II on the
 simulator itself, each trajectory judged as the check judges it (every rule on the fine grid, the
 film, the release, the landing and the body limit, over the nominal run and its perturbed copies),
 move the verified candidates to where the simulator, not the surrogate, says they are better.

@@ -98,39 +98,6 @@ def fit_bounds(
     return bounds
 
 
-def film_report(params: Params, surface: Surface, measured: dict[str, dict[str, float]]) -> dict:
-    """What the fitted surface does to the robot's film: the bond's critical opening, the steady
-    peel's root radius against fc, and each baseline's clamp edge under its peak pull."""
-    robot = params.selected_robot
-    f, fc = robot.platform.film, robot.foot.film_min_bend_radius
-    ei, g = f.bending_stiffness, surface.fracture_energy
-    baselines = {}
-    for name, m in measured.items():
-        pull = m["peak_pull"]  # the resultant: the film's tension at the clamp
-        ran = pull is not None and pull > 0
-        baselines[name] = {
-            "min_bend_radius": m["min_bend_radius"],  # measured on the free span; None: failed
-            "peak_pull": pull,
-            # elastica at the clamp edge, were the peak pull at 90 deg to the film in the clamp
-            # (a hypothetical case: the bound's size), and the largest such angle keeping fc
-            "clamp_edge_radius_if_pulled_at_90deg": film.clamp_edge_radius(ei, pull, math.pi / 2)
-            if ran
-            else None,
-            "max_angle_keeping_fc_deg": math.degrees(film.max_pull_angle(ei, pull, fc))
-            if ran
-            else None,
-        }
-    return {
-        "fc": fc,
-        "bending_stiffness": ei,
-        "axial_stiffness": f.axial_stiffness,
-        "critical_opening": 2.0 * g / surface.strength,
-        "peel_root_radius": film.peel_root_radius(ei, f.width, g),
-        "survival_energy": film.survival_energy(ei, f.width, fc),
-        "baselines": baselines,
-    }
-
-
 def fit_surface(
     params: Params,
     third: str | None,
@@ -139,7 +106,7 @@ def fit_surface(
     bounds: dict[str, tuple[float, float]] | None = None,
 ) -> dict[str, Any]:
     """Fit strength and fracture energy (and ``third``) with the Table I baselines; the report."""
-    from ftfof.sim.calibrate import TABLE_I, calibrate
+    from ftfof.sim.calibrate import TABLE_I, calibrate, film_report
 
     fixed = fixed or {}
     ctx = context_of(params)
@@ -173,7 +140,7 @@ def fit_surface(
         "residuals": fit.residuals,
         "measured": fit.measured,
         "worst_relative_error": fit.worst,
-        "film": film_report(params, surface, fit.measured),
+        "film": film_report(ctx.robot, surface, fit.measured),
         "evaluations": fit.evaluations,
         "history": fit.history,
         "baselines": params.baselines.model_dump(),

@@ -29,10 +29,9 @@ from ftfof.optimize.select import (
 )
 from ftfof.pipeline import tracking
 from ftfof.pipeline.artefacts import optimum_digest, write_optimum
-from ftfof.pipeline.bench import context_of
+from ftfof.pipeline.bench import context_of, simulator_check_of
 from ftfof.pipeline.console import console
 from ftfof.pipeline.registry import RegisteredWeights, fetch_model
-from ftfof.pipeline.simcheck import simulator_check
 from ftfof.robot import RobotContext
 from ftfof.seeds import seed_for
 
@@ -210,7 +209,7 @@ class OptimizeRun:
             self._record(r)
 
         result = search(setup.problem, setup.settings, setup.initial, record)
-        check = simulator_check(self.params, setup.ctx)
+        check = simulator_check_of(self.params, setup.ctx)
         outcome = choose(self.params, setup.ctx, setup.problem, result, setup.models_digest, check)
         write_outputs(outcome, setup, result, self.params, to)
         artifacts = (to.star, to.pcp, to.convergence.with_suffix(".png"), to.convergence)

@@ -104,7 +104,7 @@ def _polish(
 ) -> dict[str, Any]:
     """The search in simulation from the ``passed`` candidates (their verdicts taken as
     measured), RHS on the measured result written to ``out/optimize``; the report."""
-    from ftfof.pipeline.simcheck import simulator_check
+    from ftfof.pipeline.simcheck import simulator_check_of
 
     cfg, opt = params.polish, params.optimize
     settings = SearchSettings(
@@ -123,7 +123,7 @@ def _polish(
         f"{cfg.generations} generations from {len(start)} verified candidates, on "
         f"{', '.join(ctx.robot.objectives[: cfg.priorities])}"
     )
-    check = journaled(simulator_check(params, ctx), paths.out / JOURNAL)
+    check = journaled(simulator_check_of(params, ctx), paths.out / JOURNAL)
     fine = fine_policy(params, ctx)
     result = polish(fine, check, start, settings, cfg.priorities, cfg.spread, FIRST_ROW, passed)
     if not len(result.X):
@@ -143,10 +143,12 @@ def _confirmed(params: Params, ctx: RobotContext, result: Polished, journal: Pat
     """The polished front simulated again, each trajectory with ``polish.confirm_copies`` fresh
     copies (perturbations the search never saw), keeping those that pass, with these runs as
     their verdicts: RHS chooses on them, free of the search's choice among fixed draws."""
-    from ftfof.pipeline.simcheck import simulator_check
+    from ftfof.pipeline.simcheck import simulator_check_of
 
     fresh = params.optimize.model_copy(update={"verify_copies": params.polish.confirm_copies})
-    check = journaled(simulator_check(params.model_copy(update={"optimize": fresh}), ctx), journal)
+    check = journaled(
+        simulator_check_of(params.model_copy(update={"optimize": fresh}), ctx), journal
+    )
     rows = range(CONFIRM_ROW, CONFIRM_ROW + len(result.X))
     verdicts = check(list(rows), result.X)
     keep = [k for k, v in enumerate(verdicts) if v.ok]

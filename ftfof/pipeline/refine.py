@@ -6,7 +6,7 @@ to the dataset (source ``refine:<k>``, split like the dataset with the round's o
 fine-tuning's early stopping sees the region the optimiser went to), fine-tunes the surrogates
 from their weights and re-runs NSGA-II from the previous front. The rounds' clean points are also
 candidates: the best of them (:func:`nominees_of`) join each round's simulator check beside the
-surrogate's and may be chosen (docs/rhs.md). It stops after ``refine.rounds``
+surrogate's and may be chosen (docs/optimum.md). It stops after ``refine.rounds``
 rounds, or earlier once the fidelity target on the first-priority objective is met and enough of
 the round's points pass the simulator (the pad lets go, its film survives, it lands: a front of
 exploits the surrogate has not seen can rank fs1 well); the models and optimum that met it are
@@ -420,7 +420,7 @@ def _search(
     from ftfof.optimize.search import search
     from ftfof.optimize.select import choose
     from ftfof.pipeline.optimize import build_setup
-    from ftfof.pipeline.simcheck import simulator_check
+    from ftfof.pipeline.simcheck import simulator_check_of
     from ftfof.surrogate.store import load_surrogate
 
     members = inputs.front[inputs.front.origin == FRONT]  # nominees are not of the front
@@ -432,7 +432,7 @@ def _search(
         generations=params.refine.generations,
     )
     result = search(setup.problem, setup.settings, setup.initial)
-    check = simulator_check(params, setup.ctx)  # as optimize: the simulator disposes
+    check = simulator_check_of(params, setup.ctx)  # as optimize: the simulator disposes
     outcome = choose(params, setup.ctx, setup.problem, result, setup.models_digest, check, nominees)
     write_optimum(out, outcome, setup.ctx, setup.models_digest, params.optimize)
 

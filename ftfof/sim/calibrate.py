@@ -9,6 +9,7 @@ there Table I does not decide the value, the bound does.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
@@ -16,6 +17,7 @@ import numpy as np
 from scipy.optimize import minimize
 
 from ftfof import config
+from ftfof.sim import film
 from ftfof.sim.pool import run_all
 from ftfof.sim.records import SampleResult
 from ftfof.sim.spec import SampleSpec
@@ -164,3 +166,37 @@ def _active(
         elif value >= hi * (1 - AT_BOUND):
             out[name] = "upper bound"
     return out
+
+
+def film_report(
+    robot: config.Robot, surface: config.Surface, measured: dict[str, dict[str, float]]
+) -> dict:
+    """What the fitted surface does to the robot's film: the bond's critical opening, the steady
+    peel's root radius against fc, and each baseline's clamp edge under its peak pull."""
+    f, fc = robot.platform.film, robot.foot.film_min_bend_radius
+    ei, g = f.bending_stiffness, surface.fracture_energy
+    baselines = {}
+    for name, m in measured.items():
+        pull = m["peak_pull"]  # the resultant: the film's tension at the clamp
+        ran = pull is not None and pull > 0
+        baselines[name] = {
+            "min_bend_radius": m["min_bend_radius"],  # measured on the free span; None: failed
+            "peak_pull": pull,
+            # elastica at the clamp edge, were the peak pull at 90 deg to the film in the clamp
+            # (a hypothetical case: the bound's size), and the largest such angle keeping fc
+            "clamp_edge_radius_if_pulled_at_90deg": film.clamp_edge_radius(ei, pull, math.pi / 2)
+            if ran
+            else None,
+            "max_angle_keeping_fc_deg": math.degrees(film.max_pull_angle(ei, pull, fc))
+            if ran
+            else None,
+        }
+    return {
+        "fc": fc,
+        "bending_stiffness": ei,
+        "axial_stiffness": f.axial_stiffness,
+        "critical_opening": 2.0 * g / surface.strength,
+        "peel_root_radius": film.peel_root_radius(ei, f.width, g),
+        "survival_energy": film.survival_energy(ei, f.width, fc),
+        "baselines": baselines,
+    }

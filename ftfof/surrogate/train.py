@@ -1,4 +1,4 @@
-"""Training one multi-output surrogate with DILATE or MSE, and its validation metrics (§IV.B).
+"""Training one multi-output surrogate with DILATE or MSE, and its validation metrics (FTFOF §IV.B).
 
 The criterion is a sum over the targets, each on the samples that supply it (NaN = masked):
 

@@ -1,4 +1,4 @@
-"""Sampling the climbable set (FTFOF §VI.B; README, sample).
+"""Sampling the climbable set (FTFOF §VI.B; docs/pipeline.md).
 
 Draws a seeded scrambled-Sobol (or Latin hypercube) design in the unit cube in batches, maps it
 onto the region the control-point rules allow (:meth:`ConstraintPolicy.shaped`), keeps the rows

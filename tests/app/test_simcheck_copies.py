@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 from ftfof.config import Params
-from ftfof.pipeline.simcheck import perturbed_runs, simulator_check
+from ftfof.evaluate.simcheck import perturbed_runs
+from ftfof.pipeline.simcheck import simulator_check_of as simulator_check
 from ftfof.robot import RobotContext
 from ftfof.sim import pool
 from ftfof.trajectory.bezier import DECISION_NAMES

@@ -6,7 +6,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from ftfof.pipeline.simcheck import simulator_check
+from ftfof.pipeline.simcheck import simulator_check_of as simulator_check
 from ftfof.rules import foot_rules
 from ftfof.sim import film
 from ftfof.sim.simulate import simulate
@@ -78,7 +78,7 @@ def test_the_film_stiffness_follows_from_its_material_and_fc_refuses_a_thick_fil
     f = params.selected_robot.platform.film
     assert f.bending_stiffness == pytest.approx(f.youngs_modulus * f.width * f.thickness**3 / 12)
     assert f.axial_stiffness == pytest.approx(f.youngs_modulus * f.width * f.thickness)
-    assert 1.0e-4 <= f.bending_stiffness <= 1.25e-4  # PET ~250 um x 20 mm (DESIGN §13)
+    assert 1.0e-4 <= f.bending_stiffness <= 1.25e-4  # PET ~250 um x 20 mm (decision 0012)
     assert f.yield_radius() <= params.selected_robot.foot.film_min_bend_radius
 
 

@@ -90,7 +90,7 @@ def test_a_killed_run_resumes_from_its_journal(refined_tiny, polished, monkeypat
     cut = lines[-1][: len(lines[-1]) // 2]
     (resumed / JOURNAL).write_bytes(b"".join(lines[:-1]) + cut)  # killed mid-line
     asked = []
-    check = simcheck.simulator_check
+    check = simcheck.simulator_check_of
 
     def counting(*args):
         inner = check(*args)
@@ -101,7 +101,7 @@ def test_a_killed_run_resumes_from_its_journal(refined_tiny, polished, monkeypat
 
         return counted
 
-    monkeypatch.setattr(simcheck, "simulator_check", counting)
+    monkeypatch.setattr(simcheck, "simulator_check_of", counting)
     result = runner.invoke(app, polish_args(params, work / "refine", resumed), env=env)
     assert result.exit_code == 0, result.output
     assert len(asked) == 1  # every whole batch was read back, the cut one simulated again

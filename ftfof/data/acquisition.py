@@ -13,6 +13,7 @@ import numpy as np
 import pyarrow as pa
 
 from ftfof.data.schema import field
+from ftfof.sim.film import FilmLimit
 from ftfof.sim.records import CHANNELS, SampleResult, Status
 from ftfof.trajectory.bezier import DECISION_NAMES
 
@@ -116,3 +117,69 @@ def to_table(
         for c in CHANNELS:
             cols[c].append(np.asarray(r.channels.get(c, []), dtype=np.float32))
     return pa.Table.from_pydict(cols, schema=target)
+
+
+def summarize(
+    table: pa.Table, film: FilmLimit, clearance: float, wall: float, simulated: int
+) -> dict[str, object]:
+    """An acquisition's metrics: its failures and time (``wall`` seconds, ``simulated`` runs by
+    this invocation), the sampled set's peaks, the fraction bending the film below fc or never
+    clearing the wall by ``clearance``, and each baseline's figures."""
+    df = table.select(
+        [
+            "source",
+            "status",
+            "wall_time",
+            "peak_detachment",
+            "peak_pre_pressure",
+            "landing_pre_pressure",
+            "peak_body_acc",
+            "min_bend_radius",
+            "max_clearance",
+        ]
+    ).to_pandas()
+    ok = df[df.status == "ok"]
+    sampled = ok[ok.source == "sampled"]
+
+    def stats(col: str) -> dict[str, float]:
+        v = sampled[col].to_numpy()
+        if not len(v):
+            return {}
+        return {
+            k: round(float(f(v)), 4)
+            for k, f in (("mean", np.mean), ("std", np.std), ("min", np.min), ("max", np.max))
+        }
+
+    def below(col: str, value: float) -> float | None:
+        return round(float(np.mean(sampled[col] < value)), 4) if len(sampled) else None
+
+    baselines = {
+        row.source.removeprefix("baseline:"): {
+            "peak_detachment": round(float(row.peak_detachment), 4),
+            "peak_pre_pressure": round(float(row.peak_pre_pressure), 4),
+            "peak_body_acc": round(float(row.peak_body_acc), 4),
+            "min_bend_radius": round(float(row.min_bend_radius), 6),
+            "max_clearance": round(float(row.max_clearance), 6),
+        }
+        for row in ok[ok.source.str.startswith("baseline:")].itertuples()
+    }
+    return {
+        "samples": len(df),
+        "ok": len(ok),
+        "failed": int(len(df) - len(ok)),
+        "failure_rate": round(float((len(df) - len(ok)) / max(len(df), 1)), 4),
+        "seconds_per_sample": round(float(df.wall_time.mean()), 4),
+        "simulated_now": simulated,
+        "wall_seconds": round(wall, 2),
+        "peak_detachment": stats("peak_detachment"),
+        "peak_pre_pressure": stats("peak_pre_pressure"),
+        "peak_body_acc": stats("peak_body_acc"),
+        # fraction of the sampled set bending the film tighter than fc, the film's limit
+        "film_below_min_bend_radius": below("min_bend_radius", film.fc),
+        "film_limit": film.as_dict(),
+        "min_bend_radius": stats("min_bend_radius"),
+        # fraction of the sampled set whose pad never rose foot.swing_clearance above the wall
+        "pad_below_swing_clearance": below("max_clearance", clearance),
+        "max_clearance": stats("max_clearance"),
+        "baselines": baselines,
+    }

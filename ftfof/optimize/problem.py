@@ -120,6 +120,8 @@ class TrajectoryProblem(Problem):
         self.foot_rules = rules
         # the limits asked for whose channel the surrogate was trained on
         self.physical = tuple(n for n in asked_limits(rules) if PHYSICAL[n] in surrogate.trained)
+        # asked for, but the surrogate has not the channel: the search cannot see them
+        self.unconstrained = tuple(n for n in asked_limits(rules) if n not in self.physical)
         self.rules: tuple[Constraint, ...] = tuple(c for c in policy.constraints if not c.box)
         self.scales = np.array([_unit_scale(c.kind, policy) for c in self.rules])
         self.force_t = surrogate.time_base(policy.timing.T3)

@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 import pyarrow as pa
 
-from ftfof.config import Optimize, Params
+from ftfof.config import Optimize
 from ftfof.errors import OptimizationError
 from ftfof.optimize.problem import PopulationEvaluation, TrajectoryProblem
 from ftfof.optimize.rhs import RHSResult, rhs_trace
@@ -79,7 +79,8 @@ SimulatorCheck = Callable[[Sequence[int], np.ndarray], list[Verdict]]
 
 
 def choose(
-    params: Params,
+    cfg: Optimize,
+    surface: str,
     ctx: RobotContext,
     problem: TrajectoryProblem,
     result: SearchResult,
@@ -98,7 +99,6 @@ def choose(
     surrogates like them, for the record); without a check (or with ``verify_candidates`` 0)
     they are left out: nothing would measure them against the front.
     """
-    cfg = params.optimize
     policy = ctx.policy
     if not result.feasible:
         least = problem.evaluate_population(result.X[:1])
@@ -124,7 +124,7 @@ def choose(
         free = np.vstack([free, policy.contract(nominees.X)])
         origin += nominees.origin
     evaluation = problem.evaluate_population(free)
-    recheck = fine_policy(params, ctx).check(evaluation.X)
+    recheck = fine_policy(ctx, cfg.recheck_samples).check(evaluation.X)
     passing = np.flatnonzero(recheck.feasible)
     members, nominated = passing[passing < size], passing[passing >= size]
     if members.size == 0:
@@ -146,7 +146,7 @@ def choose(
     final = result.history[-1]
     summary = {
         "robot": ctx.name,
-        "surface": params.surface,
+        "surface": surface,
         "objectives": names,
         "population": cfg.population,
         "generations": result.generations,
@@ -179,10 +179,10 @@ def choose(
     return Outcome(evaluation, recheck, passing, index, rhs, candidates, summary, verdicts, origin)
 
 
-def fine_policy(params: Params, ctx: RobotContext) -> ConstraintPolicy:
-    """The robot's rules on ``optimize.recheck_samples`` points: the recheck every chosen
-    trajectory passes, independently of the grid the search used."""
-    fine = params.feasibility.model_copy(update={"n_t": params.optimize.recheck_samples})
+def fine_policy(ctx: RobotContext, recheck_samples: int) -> ConstraintPolicy:
+    """The robot's rules on ``recheck_samples`` points: the recheck every chosen trajectory
+    passes, independently of the grid the search used."""
+    fine = ctx.policy.feasibility.model_copy(update={"n_t": recheck_samples})
     return ConstraintPolicy(ctx.robot, ctx.limits, fine, ctx.name)
 
 

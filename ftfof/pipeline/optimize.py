@@ -14,26 +14,25 @@ import numpy as np
 from ftfof.config import Params
 from ftfof.digests import models_digest
 from ftfof.files import atomic_path, save_figure, write_json
-from ftfof.optimize.problem import TrajectoryProblem, asked_limits
+from ftfof.optimize.problem import TrajectoryProblem
 from ftfof.optimize.search import (
     ConvergenceRecord,
     SearchResult,
     SearchSettings,
     search,
-    warm_population,
 )
 from ftfof.optimize.select import (
     Outcome,
     choose,
     convergence_csv,
 )
+from ftfof.optimize.setup import initial_population, search_settings
 from ftfof.pipeline import tracking
 from ftfof.pipeline.artefacts import optimum_digest, write_optimum
 from ftfof.pipeline.bench import context_of, simulator_check_of
 from ftfof.pipeline.console import console
 from ftfof.pipeline.registry import RegisteredWeights, fetch_model
 from ftfof.robot import RobotContext
-from ftfof.seeds import seed_for
 
 if TYPE_CHECKING:
     from ftfof.surrogate.predict import Surrogate
@@ -81,51 +80,25 @@ def build_setup(
     surrogate: Surrogate,
     digest: str,
     registered: RegisteredWeights | None = None,
-    *,
-    warm_start_front: np.ndarray | None = None,
-    generations: int | None = None,
 ) -> Setup:
-    """A search on ``surrogate`` (whose model directory has ``digest``) with params' settings.
-
-    ``warm_start_front`` (full decision rows of a previous front) seeds the first population, filled
-    up with feasible draws; ``generations`` overrides ``optimize.generations``.
-    """
-    from ftfof.trajectory.sampling import sample_feasible
-
+    """A search on ``surrogate`` (whose model directory has ``digest``) with params' settings."""
     ctx = context_of(params)
-    cfg = params.optimize
     problem = TrajectoryProblem(ctx.policy, surrogate, ctx.robot.objectives, ctx.rules)
-    unseen = set(asked_limits(ctx.rules)) - set(problem.physical)
-    if unseen:
-        console.print(
-            f"[yellow]the surrogate was not trained on the channels of {sorted(unseen)} (an "
-            "acquisition without them): they are not constrained in the search"
-        )
-    seed = seed_for(params.search_seed, "optimize")
-    settings = SearchSettings(
-        population=cfg.population,
-        generations=generations or cfg.generations,
-        seed=seed,
-        crossover_eta=cfg.crossover_eta,
-        crossover_prob=cfg.crossover_prob,
-        mutation_eta=cfg.mutation_eta,
-        log_every=cfg.log_every,
-    )
-    initial = None
-    s = params.sample
-    if warm_start_front is not None:
-        front = ctx.policy.contract(warm_start_front)
-        need = max(cfg.population - len(front), 0)
-        fill = np.empty((0, ctx.policy.n_free))
-        if need:
-            fill_seed = seed_for(params.search_seed, "refine")
-            drawn = sample_feasible(ctx.policy, need, fill_seed, s.design, s.batch, s.max_draws)
-            fill = ctx.policy.contract(drawn.X)
-        initial = warm_population(front, fill, cfg.population)
-    elif cfg.seeded_start:
-        drawn = sample_feasible(ctx.policy, cfg.population, seed, s.design, s.batch, s.max_draws)
-        initial = ctx.policy.contract(drawn.X)
+    note_unconstrained(problem)
+    cfg = params.optimize
+    settings = search_settings(cfg, params.search_seed)
+    initial = initial_population(ctx.policy, cfg, params.sample, params.search_seed)
     return Setup(ctx, problem, settings, initial, digest, registered)
+
+
+def note_unconstrained(problem: TrajectoryProblem) -> None:
+    """Say which physical limits the search cannot see: the surrogate was not trained on them."""
+    if problem.unconstrained:
+        console.print(
+            f"[yellow]the surrogate was not trained on the channels of "
+            f"{sorted(problem.unconstrained)} (an acquisition without them): they are not "
+            "constrained in the search"
+        )
 
 
 def write_outputs(
@@ -210,7 +183,15 @@ class OptimizeRun:
 
         result = search(setup.problem, setup.settings, setup.initial, record)
         check = simulator_check_of(self.params, setup.ctx)
-        outcome = choose(self.params, setup.ctx, setup.problem, result, setup.models_digest, check)
+        outcome = choose(
+            self.params.optimize,
+            self.params.surface,
+            setup.ctx,
+            setup.problem,
+            result,
+            setup.models_digest,
+            check,
+        )
         write_outputs(outcome, setup, result, self.params, to)
         artifacts = (to.star, to.pcp, to.convergence.with_suffix(".png"), to.convergence)
         self._finish(outcome, artifacts, optimum_digest(to.out))

@@ -124,7 +124,7 @@ def _polish(
         f"{', '.join(ctx.robot.objectives[: cfg.priorities])}"
     )
     check = journaled(simulator_check_of(params, ctx), paths.out / JOURNAL)
-    fine = fine_policy(params, ctx)
+    fine = fine_policy(ctx, params.optimize.recheck_samples)
     result = polish(fine, check, start, settings, cfg.priorities, cfg.spread, FIRST_ROW, passed)
     if not len(result.X):
         why = f"none of the {result.simulated} trajectories simulated passed the check"
@@ -198,7 +198,7 @@ def _outcome(
     front = inputs.front.loc[np.arange(size), list(DECISION_NAMES)].to_numpy(dtype=float)
     problem = TrajectoryProblem(ctx.policy, load_surrogate(models), ctx.robot.objectives, ctx.rules)
     evaluation = problem.evaluate_population(ctx.policy.contract(np.vstack([front, result.X])))
-    recheck = fine_policy(params, ctx).check(evaluation.X)
+    recheck = fine_policy(ctx, params.optimize.recheck_samples).check(evaluation.X)
     rows = np.arange(size, size + len(result.X))
     polished = [replace(v, row=int(r)) for v, r in zip(result.verdicts, rows, strict=True)]
     rhs = rhs_on_verdicts(polished, opt)

@@ -229,7 +229,7 @@ def _round(
         nominees = nominees_of(
             state.measured, params.refine.nominate, params.optimize, np.vstack(state.refused)
         )
-        _search(params, rdir / "models", inputs, rdir / "optimize", nominees)
+        _search(params, ctx, rdir / "models", inputs, rdir / "optimize", nominees)
         state.refused.append(_refused(rdir / "optimize", ctx.name))
         _advance(state, rdir, new)
     record = _record(k, added, fid, clean, names, predicted[0], measured[0])
@@ -413,28 +413,32 @@ def _fine_tune(params: Params, data: TrainingData, start: Path, out: Path) -> No
 
 
 def _search(
-    params: Params, models: Path, inputs: Inputs, out: Path, nominees: Nominees | None
+    params: Params,
+    ctx: RobotContext,
+    models: Path,
+    inputs: Inputs,
+    out: Path,
+    nominees: Nominees | None,
 ) -> None:
     """NSGA-II on the fine-tuned ``models`` from the previous front, then RHS with the simulator's
     check, as `optimize` chooses, the ``nominees`` among the candidates -> ``out``."""
+    from ftfof.optimize.problem import TrajectoryProblem
     from ftfof.optimize.search import search
     from ftfof.optimize.select import choose
-    from ftfof.pipeline.optimize import build_setup
+    from ftfof.optimize.setup import initial_population, search_settings
     from ftfof.pipeline.simcheck import simulator_check_of
     from ftfof.surrogate.store import load_surrogate
 
+    cfg, digest = params.optimize, models_digest(models)
+    problem = TrajectoryProblem(ctx.policy, load_surrogate(models), ctx.robot.objectives, ctx.rules)
     members = inputs.front[inputs.front.origin == FRONT]  # nominees are not of the front
-    setup = build_setup(
-        params,
-        load_surrogate(models),
-        models_digest(models),
-        warm_start_front=members[list(DECISION_NAMES)].to_numpy(dtype=float),
-        generations=params.refine.generations,
-    )
-    result = search(setup.problem, setup.settings, setup.initial)
-    check = simulator_check_of(params, setup.ctx)  # as optimize: the simulator disposes
-    outcome = choose(params, setup.ctx, setup.problem, result, setup.models_digest, check, nominees)
-    write_optimum(out, outcome, setup.ctx, setup.models_digest, params.optimize)
+    front = members[list(DECISION_NAMES)].to_numpy(dtype=float)
+    initial = initial_population(ctx.policy, cfg, params.sample, params.search_seed, front)
+    settings = search_settings(cfg, params.search_seed, params.refine.generations)
+    result = search(problem, settings, initial)
+    check = simulator_check_of(params, ctx)  # as optimize: the simulator disposes
+    outcome = choose(cfg, params.surface, ctx, problem, result, digest, check, nominees)
+    write_optimum(out, outcome, ctx, digest, cfg)
 
 
 def _publish(paths: Paths, state: State, data: TrainingData) -> None:

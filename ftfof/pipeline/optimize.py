@@ -29,9 +29,10 @@ from ftfof.optimize.select import (
 from ftfof.optimize.setup import initial_population, search_settings
 from ftfof.pipeline import tracking
 from ftfof.pipeline.artefacts import optimum_digest, write_optimum
-from ftfof.pipeline.bench import context_of, simulator_check_of
+from ftfof.pipeline.bench import context_of
 from ftfof.pipeline.console import console
 from ftfof.pipeline.registry import RegisteredWeights, fetch_model
+from ftfof.pipeline.simcheck import simulator_check_of
 from ftfof.robot import RobotContext
 
 if TYPE_CHECKING:

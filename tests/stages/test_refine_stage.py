@@ -12,8 +12,8 @@ import pytest
 from typer.testing import CliRunner
 
 from ftfof.digests import models_digest
-from ftfof.pipeline import refine as refine_run
 from ftfof.pipeline.jobs import Acquisition
+from ftfof.refine import rounds
 from ftfof.surrogate import fit
 from ftfof.trajectory.bezier import DECISION_NAMES, same_trajectory
 from stages.cli import app
@@ -232,7 +232,7 @@ def test_a_round_with_nothing_new_to_learn_from_ends_the_rounds(optimized, monke
     """Every point already in the training data (a front of known trajectories): the first round
     keeps the models and optimum it started from, and the second never runs."""
     tmp, work, _, _ = optimized
-    monkeypatch.setattr(refine_run, "_unseen", lambda rows, tables: rows.slice(0, 0))
+    monkeypatch.setattr(rounds, "unseen", lambda rows, tables: rows.slice(0, 0))
     result, out = _refine(optimized, "known")
     assert result.exit_code == 0, result.output
     assert "nothing new to learn from, stop" in result.output

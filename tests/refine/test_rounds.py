@@ -1,0 +1,113 @@
+"""A refinement round's decisions, without files or tracking: the stop rule (fidelity on the first
+priority *and* a front the simulator passes), the nominees, what a round carries to the next."""
+
+import numpy as np
+import pyarrow as pa
+import pytest
+
+from ftfof.config import Optimize, Refine, RefineTarget, Train
+from ftfof.errors import SimulationError
+from ftfof.evaluate.fidelity import fidelity
+from ftfof.evaluate.run import OPTIMUM
+from ftfof.optimize.select import rhs_ranking
+from ftfof.refine.rounds import (
+    Measured,
+    Rounds,
+    Verdict,
+    fine_tuning,
+    nominees_of,
+    nothing_new,
+    record,
+    round_target_met,
+    successful,
+)
+from ftfof.trajectory.bezier import DECISION_NAMES
+
+S = np.array([[1.0], [2.0], [3.0], [4.0], [5.0]])
+RANKED = fidelity(["fs1"], S * 1.01, S)[0]  # rho 1, 1 % off
+TARGET = RefineTarget(spearman=0.9, relative_error=0.15, clean=0.9)
+
+
+def test_fidelity_and_a_clean_front_stop_the_refinement():
+    assert round_target_met(TARGET, RANKED, 0.01, clean=0.95)
+
+
+def test_a_front_of_exploits_refines_on_even_when_fs1_ranks_well():
+    assert not round_target_met(TARGET, RANKED, 0.01, clean=0.5)
+
+
+def test_a_clean_front_ranked_badly_refines_on():
+    reversed_ranks = fidelity(["fs1"], S[::-1], S)[0]
+    assert not round_target_met(TARGET, reversed_ranks, 0.01, clean=1.0)
+    assert not round_target_met(TARGET, RANKED, 0.5, clean=1.0)  # the optimum itself far off
+
+
+def test_nominees_are_the_pools_pull_jitter_layers_in_rhs_order():
+    cfg = Optimize()
+    X1, F1 = np.arange(36.0).reshape(3, 12), np.array([[7.0, 9.0], [6.5, 4.0], [7.2, 3.0]])
+    # round 2 simulated round 1's second point again (its optimum), and a better one
+    X2, F2 = np.vstack([X1[1], X1[0] + 100]), np.array([[6.0, 3.0], [6.4, 3.5]])
+    measured = [Measured(X1, F1, "refine:1"), Measured(X2, F2, "refine:2")]
+    chosen = nominees_of(measured, 3, cfg)
+    # the repeat counts once, with round 1's values (its 6.0 / 3.0 would have dominated all);
+    # then the front of (6.4, 3.5) and (7.2, 3.0) in RHS order, then (6.5, 4.0), which (6.4, 3.5)
+    # dominates although RHS over the whole pool would take it second
+    np.testing.assert_array_equal(chosen.X, np.vstack([X2[1], X1[2], X1[1]]))
+    assert chosen.origin == ["refine:2", "refine:1", "refine:1"]
+    pool = np.vstack([F1, F2[1:]])
+    assert rhs_ranking(pool, np.arange(4), cfg, 2) == [3, 1]  # what the layers prevent
+    assert len(nominees_of(measured, 9, cfg).X) == 4
+    assert nominees_of(measured, 0, cfg) is None
+    # a trajectory the check refused (to the nanometre) is not nominated again, nor one with an
+    # objective the simulation could not give
+    refused = nominees_of(measured, 9, cfg, X2[1:] + 1e-10)
+    np.testing.assert_array_equal(refused.X, np.vstack([X1[1], X1[2], X1[0]]))
+    unknown = [Measured(X1, np.where(np.arange(3)[:, None] == 2, np.nan, F1), "refine:1")]
+    np.testing.assert_array_equal(nominees_of(unknown, 9, cfg).X, X1[[1, 0]])
+    assert nominees_of([Measured(np.empty((0, 12)), np.empty((0, 2)), "refine:1")], 3, cfg) is None
+
+
+def _table(X: np.ndarray, status: list[str], source: list[str] | None = None) -> pa.Table:
+    columns = {n: X[:, i] for i, n in enumerate(DECISION_NAMES)}
+    source = source or ["front"] * len(X)
+    return pa.table({**columns, "status": status, "source": source, "error": [""] * len(X)})
+
+
+def test_a_round_carries_its_points_its_refusals_and_its_rows_to_the_next():
+    X = np.arange(36.0).reshape(3, 12)
+    rounds = Rounds()
+    base = _table(X[:1], ["ok"])
+    round_1 = _table(X, ["ok", "ok", "failed"])
+    new = rounds.unseen(round_1, base)  # the training data holds the first trajectory
+    np.testing.assert_array_equal(new.column("P3x").to_numpy(), X[1:, 0])
+    rounds.measure(Measured(X[1:], np.array([[6.0, 3.0], [6.5, 2.0]]), "refine:1"))
+    chosen = rounds.nominees(5, Optimize())
+    assert chosen is not None and len(chosen.X) == 2  # both clean points, before the search
+    rounds.close(X[1:2] + 1e-10, new)  # the search's check refused the second trajectory
+    again = rounds.nominees(5, Optimize())
+    np.testing.assert_array_equal(again.X, X[2:])  # never nominated again
+    assert rounds.unseen(round_1, base).num_rows == 0  # every trajectory is known now
+    assert not nothing_new(new) and nothing_new(new.filter(pa.array([False, True])))
+
+
+def test_a_round_whose_optimum_failed_is_one_clear_error():
+    X = np.zeros((2, 12))
+    ok = successful(_table(X, ["ok", "ok"], [OPTIMUM, "front"]))
+    assert len(ok) == 2
+    with pytest.raises(SimulationError, match="re-simulation failed"):
+        successful(_table(X, ["failed", "ok"], [OPTIMUM, "front"]))
+
+
+def test_fine_tuning_trains_the_used_model_with_the_rounds_settings():
+    tune = fine_tuning(Train(use="mse"), Refine(epochs=5, patience=2, lr=3e-4))
+    assert (tune.losses, tune.epochs, tune.patience, tune.lr) == (["mse"], 5, 2, 3e-4)
+
+
+def test_a_rounds_record_names_each_objective_and_rounds_its_numbers():
+    fid = fidelity(["fs1", "fsj"], S.repeat(2, axis=1) * 1.01, S.repeat(2, axis=1))
+    verdict = Verdict(fid, np.array([[6.123456789, 1.0]]), np.array([[6.0, 1.2]]), 0.8, False)
+    entry = record(2, 17, verdict, ["fs1", "fsj"])
+    assert entry["round"] == 2 and entry["added"] == 17 and entry["clean_fraction"] == 0.8
+    assert entry["optimum"]["predicted"] == {"fs1": 6.123457, "fsj": 1.0}
+    assert set(entry["fidelity"]) == {"fs1", "fsj"}
+    assert entry["fidelity"]["fs1"]["spearman"] == pytest.approx(1.0)

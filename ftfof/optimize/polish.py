@@ -13,14 +13,19 @@ from __future__ import annotations
 
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 from pymoo.core.problem import Problem
 
+from ftfof.config import Optimize
+from ftfof.config import Polish as PolishSettings
+from ftfof.optimize.problem import TrajectoryProblem
 from ftfof.optimize.search import ConvergenceRecord, SearchSettings, search
-from ftfof.optimize.select import SimulatorCheck, Verdict
+from ftfof.optimize.select import Outcome, SimulatorCheck, Verdict, rhs_on_verdicts
+from ftfof.seeds import seed_for
 from ftfof.trajectory.policy import ConstraintPolicy
 
 Array = NDArray[np.float64]
@@ -154,3 +159,90 @@ def polish(
     simulated = len(problem.verdicts)
     refused = sum(not v.ok for v in problem.verdicts.values())
     return Polished(X, verdicts, result.history, simulated, refused, time.perf_counter() - started)
+
+
+def polish_settings(cfg: PolishSettings, opt: Optimize, search_seed: int) -> SearchSettings:
+    """NSGA-II's settings on the simulator: the polish's size, the search's operators."""
+    return SearchSettings(
+        population=cfg.population,
+        generations=cfg.generations,
+        seed=seed_for(search_seed, "polish"),
+        crossover_eta=opt.crossover_eta,
+        crossover_prob=opt.crossover_prob,
+        mutation_eta=opt.mutation_eta,
+        log_every=1,
+    )
+
+
+def polished_outcome(
+    problem: TrajectoryProblem,
+    recheck: ConstraintPolicy,
+    front: Array,
+    origin: list[str],
+    earlier: list[Verdict],
+    result: Polished,
+    cfg: Optimize,
+) -> Outcome:
+    """The previous ``front`` (full decision rows, with their ``origin`` and the check's
+    ``earlier`` verdicts), the polished rows after it, RHS among the polished rows on their
+    simulated objectives; every row predicted by the surrogates, for the record."""
+    size = len(front)
+    evaluation = problem.evaluate_population(problem.policy.contract(np.vstack([front, result.X])))
+    rechecked = recheck.check(evaluation.X)
+    rows = np.arange(size, size + len(result.X))
+    polished = [replace(v, row=int(r)) for v, r in zip(result.verdicts, rows, strict=True)]
+    rhs = rhs_on_verdicts(polished, cfg)
+    index = int(rows[rhs.index])
+    passing = np.flatnonzero(rechecked.feasible)
+    origin = [*origin, *[POLISH] * len(rows)]
+    verdicts = earlier + polished
+    return Outcome(evaluation, rechecked, passing, index, rhs, rows, {}, verdicts, origin)
+
+
+def polish_report(
+    cfg: PolishSettings,
+    names: Sequence[str],
+    front_size: int,
+    start_row: int,
+    before: Verdict,
+    result: Polished,
+    outcome: Outcome,
+    searched: dict[bytes, Verdict],
+) -> dict[str, Any]:
+    """What the polish did and what it found, against its start (front row ``start_row``) as
+    the check measured it (``before``); ``searched`` holds the search's own verdicts (fixed
+    draws) by decision bytes."""
+    names = list(names)
+    chosen = next(v for v in outcome.verdicts if v.row == outcome.index)
+    in_search = searched[result.X[outcome.index - front_size].tobytes()]
+
+    def named(values: Sequence[float]) -> dict[str, float]:
+        return {n: round(float(v), 4) for n, v in zip(names, values, strict=True)}
+
+    return {
+        "polished": True,
+        "generations": cfg.generations,
+        "population": cfg.population,
+        "objectives": names[: cfg.priorities],
+        "simulated": result.simulated,
+        "refused": result.refused,
+        "confirm_copies": cfg.confirm_copies,
+        "search_seconds": round(result.seconds, 2),
+        "start": {"row": start_row, "simulated": named(before.simulated)},
+        "optimum": {
+            "row": outcome.index,
+            "simulated": named(chosen.simulated),
+            "spread": named(chosen.spread) if chosen.spread else None,
+            "runs": chosen.runs,
+            # the same trajectory as the search measured it (its fixed draws): the gap is what
+            # choosing among fixed draws flattered it by
+            "searched": named(in_search.simulated),
+            "predicted": named(outcome.evaluation.F[outcome.index]),
+        },
+        "change_vs_start": {
+            n: round(100.0 * (a / b - 1.0), 2) if b else None
+            for n, a, b in zip(names, chosen.simulated, before.simulated, strict=True)
+        },
+        "front": [named(v.simulated) for v in outcome.verdicts if v.row >= front_size],
+        "history": [r.as_dict() for r in result.history],
+    }

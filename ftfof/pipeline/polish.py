@@ -23,9 +23,8 @@ from ftfof.config import Params
 from ftfof.digests import bytes_sha256, models_digest
 from ftfof.evaluate.run import Inputs, decision
 from ftfof.files import atomic_dir, write_json
-from ftfof.optimize.polish import POLISH, Polished, polish
-from ftfof.optimize.search import SearchSettings
-from ftfof.optimize.select import Outcome, SimulatorCheck, Verdict, fine_policy, rhs_on_verdicts
+from ftfof.optimize.polish import Polished, polish, polish_report, polish_settings, polished_outcome
+from ftfof.optimize.select import SimulatorCheck, Verdict, fine_policy
 from ftfof.pipeline import tracking
 from ftfof.pipeline.artefacts import (
     FRONT_FILE,
@@ -40,7 +39,6 @@ from ftfof.pipeline.bench import context_of
 from ftfof.pipeline.console import console
 from ftfof.pipeline.jobs import close_resumable, open_resumable
 from ftfof.robot import RobotContext
-from ftfof.seeds import seed_for
 from ftfof.trajectory.bezier import DECISION_NAMES
 
 JOURNAL = "journal.jsonl"
@@ -107,15 +105,7 @@ def _polish(
     from ftfof.pipeline.simcheck import simulator_check_of
 
     cfg, opt = params.polish, params.optimize
-    settings = SearchSettings(
-        population=cfg.population,
-        generations=cfg.generations,
-        seed=seed_for(params.search_seed, "polish"),
-        crossover_eta=opt.crossover_eta,
-        crossover_prob=opt.crossover_prob,
-        mutation_eta=opt.mutation_eta,
-        log_every=1,
-    )
+    settings = polish_settings(cfg, opt, params.search_seed)
     passed = sorted(passed, key=lambda v: v.row != inputs.optimum["front_row"])  # refine's first
     start = np.array([decision(inputs, v.row) for v in passed])
     console.print(
@@ -134,9 +124,24 @@ def _polish(
     if not len(result.X):
         why = "no polished trajectory passed again with fresh copies"
         return {"polished": False, "reason": why, "simulated": result.simulated}
-    outcome = _outcome(params, ctx, inputs, result, paths.models)
-    _write(paths.out / OPTIMUM, outcome, ctx, inputs, params)
-    return _report(params, ctx, inputs, result, outcome, searched)
+    from ftfof.optimize.problem import TrajectoryProblem
+    from ftfof.surrogate.store import load_surrogate
+
+    problem = TrajectoryProblem(
+        ctx.policy, load_surrogate(paths.models), ctx.robot.objectives, ctx.rules
+    )
+    size = len(inputs.front)
+    front = inputs.front.loc[np.arange(size), list(DECISION_NAMES)].to_numpy(dtype=float)
+    earlier = [Verdict(**v) for v in inputs.optimum["simulator_check"]]
+    recheck = fine_policy(ctx, opt.recheck_samples)
+    origin = inputs.front.origin.tolist()
+    outcome = polished_outcome(problem, recheck, front, origin, earlier, result, opt)
+    write_optimum(paths.out / OPTIMUM, outcome, ctx, inputs.optimum["models_digest"], opt)
+    start_row = inputs.optimum["front_row"]
+    before = next(v for v in earlier if v.ok and v.row == start_row)
+    return polish_report(
+        cfg, ctx.robot.objectives, size, start_row, before, result, outcome, searched
+    )
 
 
 def _confirmed(params: Params, ctx: RobotContext, result: Polished, journal: Path) -> Polished:
@@ -183,86 +188,6 @@ def journaled(check: SimulatorCheck, path: Path) -> SimulatorCheck:
         return verdicts
 
     return judged
-
-
-def _outcome(
-    params: Params, ctx: RobotContext, inputs: Inputs, result: Polished, models: Path
-) -> Outcome:
-    """Refine's front and nominees, the polished rows after them, RHS among the polished rows on
-    their simulated objectives; every row predicted by the surrogates, for the record."""
-    from ftfof.optimize.problem import TrajectoryProblem
-    from ftfof.surrogate.store import load_surrogate
-
-    opt = params.optimize
-    size = len(inputs.front)
-    front = inputs.front.loc[np.arange(size), list(DECISION_NAMES)].to_numpy(dtype=float)
-    problem = TrajectoryProblem(ctx.policy, load_surrogate(models), ctx.robot.objectives, ctx.rules)
-    evaluation = problem.evaluate_population(ctx.policy.contract(np.vstack([front, result.X])))
-    recheck = fine_policy(ctx, params.optimize.recheck_samples).check(evaluation.X)
-    rows = np.arange(size, size + len(result.X))
-    polished = [replace(v, row=int(r)) for v, r in zip(result.verdicts, rows, strict=True)]
-    rhs = rhs_on_verdicts(polished, opt)
-    earlier = [Verdict(**v) for v in inputs.optimum["simulator_check"]]
-    origin = [*inputs.front.origin.tolist(), *[POLISH] * len(rows)]
-    index = int(rows[rhs.index])
-    passing = np.flatnonzero(recheck.feasible)
-    return Outcome(evaluation, recheck, passing, index, rhs, rows, {}, earlier + polished, origin)
-
-
-def _write(out: Path, outcome: Outcome, ctx: RobotContext, inputs: Inputs, params: Params):
-
-    write_optimum(out, outcome, ctx, inputs.optimum["models_digest"], params.optimize)
-
-
-def _report(
-    params: Params,
-    ctx: RobotContext,
-    inputs: Inputs,
-    result: Polished,
-    outcome: Outcome,
-    searched: dict[bytes, Verdict],
-) -> dict[str, Any]:
-    """What the polish did and what it found, against refine's optimum as its check measured it;
-    ``searched`` holds the search's own verdicts (fixed draws) by decision bytes."""
-    names = list(ctx.robot.objectives)
-    chosen = next(v for v in outcome.verdicts if v.row == outcome.index)
-    in_search = searched[result.X[outcome.index - len(inputs.front)].tobytes()]
-    before = next(
-        v
-        for v in inputs.optimum["simulator_check"]
-        if v["ok"] and v["row"] == inputs.optimum["front_row"]
-    )
-
-    def named(values: Sequence[float]) -> dict[str, float]:
-        return {n: round(float(v), 4) for n, v in zip(names, values, strict=True)}
-
-    return {
-        "polished": True,
-        "generations": params.polish.generations,
-        "population": params.polish.population,
-        "objectives": names[: params.polish.priorities],
-        "simulated": result.simulated,
-        "refused": result.refused,
-        "confirm_copies": params.polish.confirm_copies,
-        "search_seconds": round(result.seconds, 2),
-        "start": {"row": inputs.optimum["front_row"], "simulated": named(before["simulated"])},
-        "optimum": {
-            "row": outcome.index,
-            "simulated": named(chosen.simulated),
-            "spread": named(chosen.spread) if chosen.spread else None,
-            "runs": chosen.runs,
-            # the same trajectory as the search measured it (its fixed draws): the gap is what
-            # choosing among fixed draws flattered it by
-            "searched": named(in_search.simulated),
-            "predicted": named(outcome.evaluation.F[outcome.index]),
-        },
-        "change_vs_start": {
-            n: round(100.0 * (a / b - 1.0), 2) if b else None
-            for n, a, b in zip(names, chosen.simulated, before["simulated"], strict=True)
-        },
-        "front": [named(v.simulated) for v in outcome.verdicts if v.row >= len(inputs.front)],
-        "history": [r.as_dict() for r in result.history],
-    }
 
 
 def _track(params: Params, inputs: Inputs, report: dict[str, Any], paths: Paths) -> None:

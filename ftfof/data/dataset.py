@@ -14,6 +14,7 @@ from __future__ import annotations
 import json
 import warnings
 from dataclasses import asdict, dataclass
+from typing import Any
 
 import numpy as np
 import pyarrow as pa
@@ -225,3 +226,25 @@ def arrays(table: pa.Table, split_name: str) -> tuple[Array, Array]:
         )
 
     return stack(INPUTS).astype(np.float32), stack(TARGETS).astype(np.float32)
+
+
+def summarize(built: pa.Table, acquired: int, seq_len: int) -> dict[str, Any]:
+    """A built dataset in numbers: its splits, the ``acquired`` samples it left out (failed),
+    how many samples supply each target (the rest are masked) and the mean peak detachment."""
+    splits = built.column("split").to_pylist()
+    return {
+        "samples": built.num_rows,
+        "excluded_failed": acquired - built.num_rows,
+        "train": splits.count("train"),
+        "validation": splits.count("validation"),
+        "baseline": splits.count("baseline"),
+        "imported": built.column("source").to_pylist().count("imported"),
+        "seq_len": seq_len,
+        "targets_supplied": {
+            name: int(
+                sum(np.isfinite(v).all() for v in built.column(name).to_numpy(zero_copy_only=False))
+            )
+            for name in TARGETS
+        },
+        "peak_detachment_mean": float(np.nanmean(built.column("peak_detachment").to_numpy())),
+    }

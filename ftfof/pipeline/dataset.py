@@ -10,7 +10,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import numpy as np
 import pyarrow as pa
 
 from ftfof.config import Params
@@ -70,23 +69,9 @@ def build(params: Params, acquisition: Path, imported: Path) -> Dataset:
         "normalization": json.loads(norm.to_json()),
     }
     built = built.replace_schema_metadata({dataset.METADATA_KEY: json.dumps(meta, sort_keys=True)})
-    splits = built.column("split").to_pylist()
     summary = {
         "seconds": round(time.perf_counter() - started, 2),  # the stage's time (not hashed)
-        "samples": built.num_rows,
-        "excluded_failed": table.num_rows - built.num_rows,
-        "train": splits.count("train"),
-        "validation": splits.count("validation"),
-        "baseline": splits.count("baseline"),
-        "imported": built.column("source").to_pylist().count("imported"),
-        "seq_len": cfg.seq_len,
-        "targets_supplied": {  # samples whose record supplies each target (the rest are masked)
-            name: int(
-                sum(np.isfinite(v).all() for v in built.column(name).to_numpy(zero_copy_only=False))
-            )
-            for name in dataset.TARGETS
-        },
-        "peak_detachment_mean": float(np.nanmean(built.column("peak_detachment").to_numpy())),
+        **dataset.summarize(built, table.num_rows, cfg.seq_len),
         "normalization": meta["normalization"],
     }
     return Dataset(

@@ -22,6 +22,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from bench.common import best_of, row
 from ftfof.optimize.search import search
+from ftfof.pipeline import catalog
 from ftfof.pipeline.optimize import prepare
 from ftfof.pipeline.params_file import load_params
 from stages.runtime import tune_allocator
@@ -74,7 +75,7 @@ def main(generations: int | None) -> None:
     tune_allocator()  # as in every `ftfof` process
     root = Path(__file__).resolve().parents[1]
     params = load_params(root / "params.yaml")
-    setup = prepare(params, root / "data/models")
+    setup = prepare(params, root / catalog.path("models"))
     settings = setup.settings
     if generations is not None:
         from dataclasses import replace

@@ -20,6 +20,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from bench.common import best_of, row
+from ftfof.pipeline import catalog
 from ftfof.pipeline.bench import context_of
 from ftfof.pipeline.params_file import load_params
 from ftfof.surrogate.peaks import NearFront
@@ -70,5 +71,5 @@ def main(population: int, models: str) -> None:
 if __name__ == "__main__":
     main(
         int(sys.argv[1]) if len(sys.argv) > 1 else 200,
-        sys.argv[2] if len(sys.argv) > 2 else "data/models",
+        sys.argv[2] if len(sys.argv) > 2 else catalog.path("models"),
     )

@@ -25,12 +25,14 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from ftfof.optimize.select import FRONT as FRONT_ORIGIN
 from ftfof.optimize.select import Verdict, verified_rhs
+from ftfof.pipeline import catalog
+from ftfof.pipeline.artefacts import FRONT_FILE
 from ftfof.pipeline.bench import context_of
 from ftfof.pipeline.params_file import load_params
 from ftfof.pipeline.simcheck import simulator_check_of
 from ftfof.trajectory.bezier import DECISION_NAMES
 
-FRONT = "data/refine/optimize/front.parquet"
+FRONT = (catalog.path("refine_optimize") / FRONT_FILE).as_posix()
 ALPHAS = (0.9, 0.7, 0.5, 0.4)
 CANDIDATES = (8, 16, 32)
 

@@ -27,6 +27,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from ftfof.evaluate.simcheck import perturbed_runs
 from ftfof.evaluate.step_check import CHECKED, checked_figures
+from ftfof.pipeline import catalog
+from ftfof.pipeline.artefacts import OPTIMUM_FILE
 from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, context_of
 from ftfof.pipeline.params_file import parse_params, read_yaml
 from ftfof.sim.simulate import simulate
@@ -48,7 +50,9 @@ def peaks(spec, T3: float) -> tuple[dict[str, float], float]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("optimum", nargs="?", default=ROOT / "data/polish/optimize/optimum.json")
+    parser.add_argument(
+        "optimum", nargs="?", default=ROOT / catalog.path("polish_optimize") / OPTIMUM_FILE
+    )
     parser.add_argument("--steps", default="1e-3,5e-4,2.5e-4,1.25e-4")
     parser.add_argument("--free-step", type=float, default=None)
     parser.add_argument("--copies", type=int, default=5)

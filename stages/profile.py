@@ -11,9 +11,10 @@ from typing import Annotated, Any
 
 import typer
 
+from ftfof.pipeline import catalog
 from stages.common import ParamsOption, console, stage
 
-PROFILES = Path("profiles")
+PROFILES = catalog.PROFILES
 
 
 @stage

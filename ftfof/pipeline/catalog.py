@@ -13,6 +13,7 @@ from pathlib import Path
 
 DATA = Path("data")  # DVC-tracked outputs
 REPORTS = Path("reports")  # metrics, figures and the report, beside the data
+PROFILES = Path("profiles")  # size profiles `ftfof profile` overlays on params.yaml (inputs)
 
 
 @dataclass(frozen=True)

@@ -9,14 +9,15 @@ import subprocess
 import warnings
 from pathlib import Path
 
-from ftfof.pipeline import machine
+from ftfof.pipeline import catalog, machine
 
 EXPERIMENT_PREFIX = "ftfof"
 MODELS_DIGEST_TAG = "ftfof.models_digest"  # on the train run that wrote data/models
 OPTIMUM_DIGEST_TAG = "ftfof.optimum_digest"  # on the optimize run that wrote data/optimize
 SURROGATE_RUN_TAG = "ftfof.surrogate_run"  # on an optimize run: the train run of its models
 OPTIMIZE_RUN_TAG = "ftfof.optimize_run"  # on an evaluate run: the optimize run of its optimum
-DATASET_SOURCE = "data/dataset/samples.parquet"  # the training data's path in the repository
+# the training data's path in the repository
+DATASET_SOURCE = (catalog.path("dataset") / "samples.parquet").as_posix()
 
 
 def repo_root() -> Path:

@@ -8,13 +8,11 @@ followed statically. A dep covers a file when it is that file or a directory abo
 from __future__ import annotations
 
 import ast
-from pathlib import Path
 
 import pytest
 import yaml
 
-ROOT = Path(__file__).resolve().parents[1]
-PACKAGES = ("ftfof", "stages")
+from tests.imports import ROOT, imported_files
 
 
 def commands() -> dict[str, str]:
@@ -33,53 +31,6 @@ def commands() -> dict[str, str]:
             assert isinstance(name, ast.Constant)
             out[name.value] = f"stages.{node.args[0].value.id}"
     return out
-
-
-def module_file(module: str) -> Path | None:
-    """The file that defines ``module`` (a package resolves to its ``__init__.py``)."""
-    base = ROOT.joinpath(*module.split("."))
-    for path in (base.with_suffix(".py"), base / "__init__.py"):
-        if path.is_file():
-            return path
-    return None
-
-
-def imported_modules(path: Path) -> set[str]:
-    """Every project module ``path`` names in an import, wherever the import stands."""
-    package = ".".join(path.relative_to(ROOT).with_suffix("").parts)
-    if path.name != "__init__.py":
-        package = package.rpartition(".")[0]
-    found: set[str] = set()
-    for node in ast.walk(ast.parse(path.read_text(), str(path))):
-        if isinstance(node, ast.Import):
-            found.update(alias.name for alias in node.names)
-        elif isinstance(node, ast.ImportFrom):
-            base = node.module or ""
-            if node.level:
-                parent = package.rsplit(".", node.level - 1)[0] if node.level > 1 else package
-                base = f"{parent}.{base}" if base else parent
-            found.add(base)
-            found.update(f"{base}.{alias.name}" for alias in node.names)
-    return {m for m in found if m.split(".")[0] in PACKAGES}
-
-
-def with_parents(module: str) -> list[str]:
-    """Importing ``a.b.c`` also runs ``a`` and ``a.b``."""
-    parts = module.split(".")
-    return [".".join(parts[: i + 1]) for i in range(len(parts))]
-
-
-def imported_files(module: str) -> set[Path]:
-    """Project files loaded by importing ``module``, transitively."""
-    seen: set[Path] = set()
-    todo = [module]
-    while todo:
-        for name in with_parents(todo.pop()):
-            path = module_file(name)
-            if path is not None and path not in seen:
-                seen.add(path)
-                todo.extend(imported_modules(path))
-    return seen
 
 
 def covered(path: str, deps: list[str]) -> bool:

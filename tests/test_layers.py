@@ -3,12 +3,11 @@ other in a loop. A new package gets a rank here, or this test names it."""
 
 from __future__ import annotations
 
-import ast
 from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+from tests.imports import ROOT, imported_modules
 
 # the unit of a rank: a subpackage of ftfof, a top-level ftfof module, or stages
 RANKS = {
@@ -56,21 +55,7 @@ MODULES = modules()
 
 def imports(name: str) -> set[str]:
     """Project modules ``name`` imports, wherever the import stands (type-checking ones too)."""
-    path = MODULES[name]
-    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
-    found = set()
-    for node in ast.walk(ast.parse(path.read_text(), str(path))):
-        if isinstance(node, ast.Import):
-            found.update(a.name for a in node.names)
-        elif isinstance(node, ast.ImportFrom):
-            base = node.module or ""
-            if node.level:
-                parent = package.rsplit(".", node.level - 1)[0] if node.level > 1 else package
-                base = f"{parent}.{base}" if base else parent
-            for alias in node.names:
-                full = f"{base}.{alias.name}"
-                found.add(full if full in MODULES else base)
-    return {m for m in found if m in MODULES}
+    return imported_modules(MODULES[name]) & set(MODULES)
 
 
 def test_every_module_has_a_layer():

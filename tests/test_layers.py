@@ -90,3 +90,15 @@ def test_no_modules_import_each_other_in_a_loop():
     for name in sorted(graph):
         if name not in state:
             visit(name, [name])
+
+
+RUN_MODULES = {
+    f"ftfof.pipeline.{name}"
+    for name in ("dataset", "training", "optimize", "refine", "polish", "evaluate", "calibration")
+}
+
+
+@pytest.mark.parametrize("name", sorted(RUN_MODULES))
+def test_a_stage_run_imports_no_other_stage_run(name: str):
+    """What two stages share is a library call or a shared pipeline module, never a stage's run."""
+    assert not (imports(name) & (RUN_MODULES - {name}))

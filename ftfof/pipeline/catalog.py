@@ -2,8 +2,9 @@
 and what each stage reads and writes. The one place a path is spelled: the stage commands take
 their defaults from here, and a test holds dvc.yaml's deps and outs equal to it.
 
-Each format has one writer and one reader (:data:`FORMATS`, as ``module:function`` so that this
-module imports nothing heavy: the command line reads it at start-up).
+Each format has one writer, and one reader where a command reads it back (:data:`FORMATS`, as
+``module:function`` so that this module imports nothing heavy: the command line reads it at
+start-up).
 """
 
 from __future__ import annotations
@@ -64,22 +65,24 @@ ARTEFACTS: dict[str, Artefact] = {
     "simulate": _a("reports/simulate", "simulation_plots", "simulate"),
 }
 
-# format -> (writer, reader)
-FORMATS: dict[str, tuple[str, str]] = {
+# format -> (its writer, its reader), as ``module:function``. The reader is None where no command
+# reads the format back: it is for the user (metrics, timings, the report, the export).
+FORMATS: dict[str, tuple[str, str | None]] = {
     "trajectories": ("ftfof.files:write_parquet", "ftfof.files:read_table"),
     "simulations": ("ftfof.pipeline.jobs:Acquisition", "ftfof.files:read_table"),
     "imported_logs": ("ftfof.files:write_parquet", "ftfof.files:read_table"),
     "dataset": ("ftfof.surrogate.store:write_dataset", "ftfof.surrogate.store:read_dataset"),
     "models": ("ftfof.surrogate.store:write_models", "ftfof.surrogate.store:load_surrogate"),
     "optimum": ("ftfof.pipeline.artefacts:write_optimum", "ftfof.pipeline.artefacts:read_optimum"),
-    "refine_rounds": ("ftfof.pipeline.refine:run", "ftfof.pipeline.artefacts:read_optimum"),
-    "polish_rounds": ("ftfof.pipeline.polish:run", "ftfof.pipeline.artefacts:read_optimum"),
+    # a stage's working directory: its rounds or journal, and the parts the next stage reads
+    "refine_rounds": ("ftfof.pipeline.refine:run", None),
+    "polish_rounds": ("ftfof.pipeline.polish:run", None),
     "refine_report": ("ftfof.files:write_json", "ftfof.pipeline.artefacts:read_refine"),
-    "json": ("ftfof.files:write_json", "json:loads"),
-    "csv": ("ftfof.files:atomic_path", "numpy:loadtxt"),
     "png": ("ftfof.files:save_figure", "ftfof.pipeline.artefacts:read_figure"),
-    "html": ("ftfof.files:atomic_path", "webbrowser:open"),
-    "simulation_plots": ("ftfof.files:save_figure", "webbrowser:open"),
+    "json": ("ftfof.files:write_json", None),
+    "csv": ("ftfof.files:atomic_path", None),
+    "html": ("ftfof.files:atomic_path", None),
+    "simulation_plots": ("ftfof.files:save_figure", None),
 }
 
 # command -> (the artefacts it reads, the artefacts it writes)

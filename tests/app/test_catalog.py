@@ -45,11 +45,19 @@ def test_every_artefact_a_stage_reads_is_written_by_a_command():
 
 
 @pytest.mark.parametrize("name", sorted(catalog.FORMATS))
-def test_each_format_has_one_writer_and_one_reader_that_exist(name: str):
+def test_each_format_has_one_writer_and_its_reader_and_they_exist(name: str):
     for target in catalog.FORMATS[name]:
-        module, _, attr = target.partition(":")
-        assert callable(getattr(importlib.import_module(module), attr)), target
+        if target is not None:
+            module, _, attr = target.partition(":")
+            assert callable(getattr(importlib.import_module(module), attr)), target
     assert any(a.format == name for a in catalog.ARTEFACTS.values()), f"{name} is unused"
+
+
+def test_what_a_stage_reads_has_a_reader():
+    read = {n for reads, _ in catalog.STAGES.values() for n in reads}
+    for name in read:
+        artefact = catalog.ARTEFACTS[name]
+        assert catalog.FORMATS[artefact.format][1] is not None, f"nothing reads {name}"
 
 
 def test_a_part_lives_inside_the_artefact_that_holds_it():

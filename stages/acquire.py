@@ -28,7 +28,9 @@ def command(
     timing: Annotated[Path, typer.Option(help="Per-sample wall times (CSV).")] = TIMING,
     workers: Annotated[int | None, typer.Option(help="Override acquire.workers.")] = None,
     scheduler: Annotated[str | None, typer.Option(help="Override acquire.scheduler.")] = None,
-    limit: Annotated[int | None, typer.Option(help="Only the first N sampled rows.")] = None,
+    limit: Annotated[
+        int | None, typer.Option(min=1, help="Only the first N sampled rows (at least 1).")
+    ] = None,
 ) -> None:
     """Simulate the force-acquisition platform for every trajectory (resumable)."""
     from ftfof.files import write_json

@@ -34,10 +34,12 @@ def command(
     from ftfof.data.logs import parse
     from ftfof.errors import DataError
     from ftfof.files import write_parquet
+    from ftfof.pipeline.bench import context_of
     from ftfof.pipeline.params_file import load_params
 
     params = load_params(params_path)
     T3 = duration if duration is not None else params.selected_robot.timing.T3
+    max_speed = float(max(context_of(params).limits.velocity))
     tables = []
     names = [p.stem for p in logs]
     if len(set(names)) != len(names):
@@ -52,7 +54,7 @@ def command(
                 df = pd.read_csv(path)
         except Exception as err:  # any reader failure is a malformed file
             raise DataError(str(path), f"unreadable ({str(err).splitlines()[0]})") from None
-        result = parse(df, params.logs, str(path), path.stem, i)
+        result = parse(df, params.logs, str(path), path.stem, i, T3, max_speed)
         tables.append(
             to_table([result], params.robot, params.logs.surface, {}, T3, with_wall_time=False)
         )

@@ -29,6 +29,10 @@ def command(
         str | None, typer.Option(help="polynomial | cycloidal | random_bezier | eps_bezier.")
     ] = None,
     out_dir: Annotated[Path, typer.Option(help="Where the CSV and PNG go.")] = OUT_DIR,
+    allow_infeasible: Annotated[
+        bool,
+        typer.Option(help="Simulate points the robot's rules refuse; outputs named -infeasible."),
+    ] = False,
 ) -> None:
     """Simulate one trajectory (control points, a sampled row, or a baseline) and plot it."""
     import numpy as np
@@ -40,6 +44,7 @@ def command(
         baseline_specs,
         baseline_trajectories,
         bench,
+        check_points,
         context_of,
         parse_points,
     )
@@ -73,9 +78,10 @@ def command(
                 raise ParamsError("--row", f"{row} is outside 0..{table.num_rows - 1}")
             X = np.array([table.column(n)[row].as_py() for n in DECISION_NAMES])
             name = f"row{row}"
-        report = ctx.policy.check(X)
-        if not report.feasible[0]:
-            console.print(f"[yellow]note: infeasible for {ctx.name}: {'; '.join(report.failed(0))}")
+        failed = check_points(X, unit if points is not None else "m", ctx, allow_infeasible)
+        if failed:
+            name += "-infeasible"
+            console.print(f"[yellow]infeasible for {ctx.name}: {'; '.join(failed)}")
         spec = on.bezier("sampled", row or 0, X)
     result = simulate(spec)
     out_dir.mkdir(parents=True, exist_ok=True)

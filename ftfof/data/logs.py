@@ -58,9 +58,19 @@ def _columns(df: pd.DataFrame, fmt: config.Logs, source: str) -> dict[str, tuple
 
 
 def parse(
-    df: pd.DataFrame, fmt: config.Logs, source: str, name: str, sample_id: int
+    df: pd.DataFrame,
+    fmt: config.Logs,
+    source: str,
+    name: str,
+    sample_id: int,
+    duration: float | None = None,
+    max_speed: float | None = None,
 ) -> SampleResult:
-    """One validated log as the sample ``imported:<name>`` (channels in SI, tension positive)."""
+    """One validated log as the sample ``imported:<name>`` (channels in SI, tension positive).
+
+    With the robot's trajectory ``duration`` (T3, s) and its leg's ``max_speed`` (m/s), a log
+    whose time or length unit is off by a thousand is refused: it would import a step of a
+    millisecond, or a foot at a hundred metres a second."""
     cols = _columns(df, fmt, source)
     values = {}
     for quantity, (header, scale) in cols.items():
@@ -76,6 +86,8 @@ def parse(
     if back.size:
         header = cols["time"][0]
         raise DataError(source, f"row {back[0] + 3}, column {header!r}: time does not increase")
+    if duration is not None and max_speed is not None:
+        _plausible(t, values["x"], values["z"], cols, duration, max_speed, source)
     fz = values["Fz"] if fmt.tension_positive else -values["Fz"]
     nan = np.full_like(t, np.nan)
     x, z = values["x"], values["z"]
@@ -106,3 +118,32 @@ def parse(
     result = SampleResult(f"imported:{name}", "imported", sample_id, Status.OK, "", 0.0, channels)
     result.scalars = scalars
     return result
+
+
+def _plausible(
+    t: np.ndarray,
+    x: np.ndarray,
+    z: np.ndarray,
+    cols: dict[str, tuple[str, float]],
+    duration: float,
+    max_speed: float,
+    source: str,
+) -> None:
+    """Refuse a log whose span or foot speed is orders of magnitude off the robot's."""
+    header = cols["time"][0]
+    span = float(t[-1] - t[0])
+    if not duration / 2 <= span <= 100 * duration:
+        raise DataError(
+            source,
+            f"column {header!r}: the log spans {span:.4g} s against the robot's T3 = "
+            f"{duration:g} s; its time unit looks wrong (set it in the header, e.g. 't [ms]', "
+            "or in logs.units.time)",
+        )
+    speed = float(np.max(np.hypot(np.diff(x), np.diff(z)) / np.diff(t)))
+    if speed > 10 * max_speed:
+        raise DataError(
+            source,
+            f"columns {cols['x'][0]!r}, {cols['z'][0]!r}: the foot moves at {speed:.3g} m/s, "
+            f"{speed / max_speed:.0f} times the leg's {max_speed:g} m/s; check the length and "
+            "time units",
+        )

@@ -18,6 +18,7 @@ from ftfof.errors import DataError
 from ftfof.evaluate.run import Inputs
 from ftfof.files import atomic_dir
 from ftfof.optimize.select import Outcome, front_table, optimum_record
+from ftfof.pipeline.catalog import run_first, writer_of
 from ftfof.robot import RobotContext
 from ftfof.trajectory.bezier import DECISION_NAMES
 
@@ -66,7 +67,7 @@ def read_optimum(directory: Path, robot: str, fields: Sequence[str] = EVALUATE_R
     is one DataError."""
     path = directory / OPTIMUM_FILE
     if not path.exists() or not (directory / FRONT_FILE).exists():
-        raise DataError(str(directory), "no optimum (run `ftfof optimize` first)")
+        raise DataError(str(directory), f"no optimum ({run_first(directory, 'optimize')})")
     try:
         optimum = json.loads(path.read_text())
         front = pq.read_table(directory / FRONT_FILE)
@@ -77,13 +78,14 @@ def read_optimum(directory: Path, robot: str, fields: Sequence[str] = EVALUATE_R
     if missing:
         raise DataError(
             str(path),
-            f"lacks {', '.join(missing)}: written by an older ftfof (re-run `ftfof optimize`)",
+            f"lacks {', '.join(missing)}: written by an older ftfof "
+            f"(re-run `ftfof {writer_of(directory) or 'optimize'}`)",
         )
     if optimum.get("robot") != robot or meta.get("robot") != robot:
         raise DataError(
             str(directory),
             f"holds an optimum for {optimum.get('robot')!r} but params select {robot!r} "
-            "(re-run `ftfof optimize`)",
+            f"(re-run `ftfof {writer_of(directory) or 'optimize'}`)",
         )
     frame = front.to_pandas().set_index("row")
     return Inputs(optimum, frame, list(meta["objectives"]), optimum_digest(directory))
@@ -92,7 +94,7 @@ def read_optimum(directory: Path, robot: str, fields: Sequence[str] = EVALUATE_R
 def read_refine(path: Path) -> list[dict]:
     """The rounds of reports/refine.json (empty with ``refine.rounds: 0``)."""
     if not path.exists():
-        raise DataError(str(path), "no refinement report (run `ftfof refine` first)")
+        raise DataError(str(path), f"no refinement report ({run_first(path, 'refine')})")
     try:
         return list(json.loads(path.read_text())["rounds"])
     except (ValueError, KeyError, TypeError) as err:
@@ -101,6 +103,8 @@ def read_refine(path: Path) -> list[dict]:
 
 def check_models(inputs: Inputs, directory: Path, models: Path) -> None:
     """The optimum in ``directory`` must have been found on the surrogates in ``models``."""
+    if not models.is_dir():
+        raise DataError(str(models), f"no trained models ({run_first(models, 'train')})")
     if inputs.optimum["models_digest"] != models_digest(models):
         raise DataError(str(directory), f"was optimised on other models than {models} (re-run it)")
 
@@ -110,7 +114,9 @@ def read_figure(path: Path) -> str:
     from ftfof.report.html import png_data_uri
 
     if not path.exists():
-        raise DataError(str(path), "figure missing (run the stage that writes it)")
+        writer = writer_of(path)
+        hint = f"run `ftfof {writer}` first" if writer else "run the stage that writes it"
+        raise DataError(str(path), f"figure missing ({hint})")
     try:
         return png_data_uri(path.read_bytes())
     except ValueError:

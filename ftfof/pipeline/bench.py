@@ -68,3 +68,31 @@ def parse_points(text: str, unit: str) -> np.ndarray:
     if len(values) != 12:
         raise ParamsError("--points", f"needs 12 values P3x..P12z (got {len(values)})")
     return np.array(values) * scale
+
+
+def check_points(X: np.ndarray, unit: str, ctx: RobotContext, allow_infeasible: bool) -> list[str]:
+    """The rules of ``ctx``'s policy that the control points ``X`` (m) break; refused unless
+    ``allow_infeasible``. Values a thousand times off the robot's reach are refused either way,
+    with the unit they were most likely meant in."""
+    reach = float(np.max(ctx.limits.position))
+    size = float(np.max(np.abs(X)))
+    if unit == "m" and size > 10 * reach and size * 1e-3 <= 2 * reach:
+        raise ParamsError(
+            "--points",
+            f"reach {size:g} m, {size / reach:.0f} times the robot's {reach:g} m: they look like "
+            "millimetres (add --unit mm)",
+        )
+    if unit == "mm" and 0 < size < reach / 100 and size * 1e3 <= 2 * reach:
+        raise ParamsError(
+            "--points",
+            f"reach {1e3 * size:g} mm, 1/{reach / size:.0f} of the robot's {1e3 * reach:g} mm: "
+            "they look like metres (drop --unit mm)",
+        )
+    failed = ctx.policy.check(X).failed(0)
+    if failed and not allow_infeasible:
+        raise ParamsError(
+            "--points",
+            f"{ctx.name} cannot run them: {'; '.join(failed[:3])} "
+            "(--allow-infeasible simulates them anyway, marked as such)",
+        )
+    return failed

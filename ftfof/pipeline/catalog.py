@@ -132,6 +132,23 @@ def path(name: str) -> Path:
     return ARTEFACTS[name].path
 
 
+def writer_of(path: Path) -> str | None:
+    """The command that writes the artefact at ``path`` (a catalog path, also under another
+    root), None for a path the catalog does not know: what a missing input's hint names."""
+    parts = Path(path).parts
+    for artefact in ARTEFACTS.values():
+        own = artefact.path.parts
+        if parts[-len(own) :] == own:
+            return artefact.writer
+    return None
+
+
+def run_first(path: Path, usual: str) -> str:
+    """The hint for a missing input at ``path``: the command that writes it (``usual`` where the
+    catalog does not know the path)."""
+    return f"run `ftfof {writer_of(path) or usual}` first"
+
+
 def tracked(name: str) -> Path:
     """The path DVC tracks for ``name``: its own, or that of the directory holding it."""
     artefact = ARTEFACTS[name]

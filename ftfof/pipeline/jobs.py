@@ -28,6 +28,7 @@ from ftfof.data.schema import TRAJECTORIES
 from ftfof.digests import bytes_sha256, file_sha256, json_sha256, tree_sha256
 from ftfof.errors import DataError, SimulationError
 from ftfof.files import atomic_path, read_table, write_json, write_parquet
+from ftfof.pipeline import interrupt
 from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, context_of
 from ftfof.pipeline.console import progress
 from ftfof.robot import RobotContext
@@ -149,11 +150,14 @@ class Acquisition:
     def run(
         self, todo: Sequence[SampleSpec], workers: int, address: str | None
     ) -> Iterator[list[SampleResult]]:
-        """Simulate ``todo`` and persist each finished batch before yielding it."""
+        """Simulate ``todo`` and persist each finished batch before yielding it; a stop request
+        (:mod:`ftfof.pipeline.interrupt`) ends the run after the batch just written."""
         cfg = self.params.acquire
-        for results in pool.run(todo, workers, cfg.batch, address):
-            self._write_part(results)
-            yield results
+        with interrupt.deferred():
+            for results in pool.run(todo, workers, cfg.batch, address):
+                self._write_part(results)
+                interrupt.check()
+                yield results
 
     def simulate(
         self, todo: Sequence[SampleSpec], workers: int, address: str | None, label: str

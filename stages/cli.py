@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+from typing import Annotated
 
 import typer
 
@@ -32,11 +33,28 @@ app = typer.Typer(
     no_args_is_help=True,
     pretty_exceptions_show_locals=False,
     add_completion=False,
+    # plain help: it wraps long option values instead of cutting them at the terminal's width
+    rich_markup_mode=None,
 )
 
 
+def _version(shown: bool) -> None:
+    if shown:
+        from importlib.metadata import version
+
+        import ftfof
+
+        print(f"ftfof {ftfof.__version__} (exudyn {version('exudyn')}, torch {version('torch')})")
+        raise typer.Exit
+
+
 @app.callback()
-def _root() -> None:
+def _root(
+    version: Annotated[
+        bool,
+        typer.Option("--version", callback=_version, is_eager=True, help="Print the version."),
+    ] = False,
+) -> None:
     """Run a stage by name; `dvc repro` runs them all in order (see dvc.yaml)."""
 
 

@@ -26,7 +26,8 @@ def command(
     loss_plot: Annotated[Path, typer.Option(help="Validation loss curves (Fig. 8).")] = LOSS_PLOT,
     pred_plot: Annotated[Path, typer.Option(help="Predicted vs measured (Fig. 9).")] = PRED_PLOT,
 ) -> None:
-    """Train trajectory -> force GRUs with DILATE (and MSE for comparison); log to MLflow."""
+    """Train the trajectory -> force GRU of each loss in train.losses (DILATE or MSE; the
+    optimiser uses train.use) and the peak GPs of train.peaks; log and register them in MLflow."""
     from ftfof.files import save_figure, write_json
     from ftfof.pipeline.machine import describe
     from ftfof.pipeline.params_file import load_params

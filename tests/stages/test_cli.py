@@ -41,3 +41,17 @@ def test_python_dash_m_and_console_script_agree():
 def test_no_arguments_prints_help_and_fails():
     result = runner.invoke(app, [])
     assert result.exit_code == 2
+
+
+def test_the_version_names_the_simulator_and_torch():
+    result = runner.invoke(app, ["--version"])
+    assert result.exit_code == 0 and result.stdout.startswith("ftfof 0.")
+    assert "exudyn 1." in result.stdout and "torch 2." in result.stdout
+
+
+@pytest.mark.parametrize("name", COMMANDS)
+def test_help_wraps_at_80_columns_and_cuts_nothing(name):
+    result = runner.invoke(app, [name, "--help"], env={"COLUMNS": "80"}, terminal_width=80)
+    assert result.exit_code == 0
+    assert "…" not in result.stdout
+    assert max(len(line) for line in result.stdout.splitlines()) <= 80

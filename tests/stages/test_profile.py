@@ -68,3 +68,20 @@ def _overlay(target: dict, overlay: dict) -> None:
             _overlay(target[key], value)
         else:
             target[key] = value
+
+
+def test_undo_puts_back_the_file_before_the_first_profile(tmp_path):
+    params, profiles = _setup(tmp_path)
+    original = params.read_bytes()
+    assert _apply(params, profiles, "tiny").exit_code == 0
+    assert _apply(params, profiles, "tiny").exit_code == 0  # a second profile keeps the first's
+    assert params.read_bytes() != original
+    result = runner.invoke(app, ["profile", "--undo", "-p", str(params)])
+    assert result.exit_code == 0, result.output
+    assert params.read_bytes() == original
+    assert not (tmp_path / "params.yaml.before-profile").exists()
+    result = runner.invoke(app, ["profile", "--undo", "-p", str(params)])
+    assert result.exit_code == 2 and "no profile to undo" in result.stderr
+    result = runner.invoke(app, ["profile", "tiny", "--undo", "-p", str(params)])
+    assert result.exit_code == 2 and "give a profile name, or --undo alone" in result.stderr
+    assert params.read_bytes() == original

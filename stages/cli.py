@@ -12,6 +12,7 @@ from stages import (
     calibrate,
     dataset,
     evaluate,
+    export,
     import_logs,
     optimize,
     polish,
@@ -69,6 +70,7 @@ app.command("polish")(polish.command)
 app.command("evaluate")(evaluate.command)
 app.command("profile")(profile.command)
 app.command("simulate")(simulate.command)
+app.command("export")(export.command)
 app.command("calibrate")(calibrate.command)
 app.command("sweep")(sweep.command)
 

@@ -1,4 +1,6 @@
-"""The optimum as a controller reads it: time-sampled foot position, velocity and joint angles."""
+"""A trajectory as a controller reads it: time-sampled foot position, velocity and joint angles,
+checked against the leg's joint and speed limits, and rendered as CSV (a commented metadata
+header), JSON or the YAML shape of ROS ``trajectory_msgs/JointTrajectory``."""
 
 from __future__ import annotations
 
@@ -8,7 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ftfof.kinematics.legs import Leg, within_limits
-from ftfof.trajectory.policy import ConstraintPolicy
+from ftfof.trajectory.piecewise import Sampled
 
 Array = NDArray[np.float64]
 
@@ -43,21 +45,20 @@ class ControllerTrajectory:
 
 
 def controller_trajectory(
-    policy: ConstraintPolicy, leg: Leg, X: Array, rate_hz: float
+    trajectory: Sampled, T3: float, leg: Leg, rate_hz: float
 ) -> ControllerTrajectory:
-    """Sample the Bezier ``X`` (12,) over [0, T3] at ``rate_hz`` and solve the leg's IK.
+    """Sample ``trajectory`` over [0, T3] at ``rate_hz`` and solve the leg's IK.
 
     Joint rates solve J(q) dq = v exactly through the leg's sagittal parameterisation (two free
     joints, the third following from them). Raises ExportRateError for a rate giving fewer than 3
     samples, ValueError at the first instant the leg cannot reach.
     """
-    T3 = policy.timing.T3
     t = np.linspace(0.0, T3, int(np.floor(T3 * rate_hz + 1e-9)) + 1)
     if t.size < 3:
         raise ExportRateError(
             f"export rate {rate_hz} Hz gives fewer than 3 samples over T3 = {T3} s"
         )
-    s = policy.sample(np.asarray(X, dtype=float)[None], t)
+    s = trajectory.sample(t)
     position, velocity = s.position[0], s.velocity[0]
     theta = leg.inverse(position)
     bad = np.flatnonzero(~np.all(np.isfinite(theta), axis=1))
@@ -82,3 +83,95 @@ def _joint_rates(leg: Leg, theta: Array, velocity: Array) -> Array:
     A = np.einsum("nij,njk->nik", leg.jacobian(theta), S)
     free = np.linalg.solve(A, velocity[..., None])[..., 0]
     return np.einsum("nij,nj->ni", S, free)
+
+
+def limit_breaches(out: ControllerTrajectory, leg: Leg) -> list[str]:
+    """The leg's limits ``out`` breaks, each with its joint and first instant: a robot cannot run
+    a trajectory that leaves a joint's range or outruns its speed."""
+    t, theta, rates = out.table[:, 0], out.table[:, 5:8], out.table[:, 8:11]
+    breaches = []
+    for j in range(3):
+        lo, hi = leg.joint_limits[j]
+        outside = np.flatnonzero((theta[:, j] < lo - 1e-9) | (theta[:, j] > hi + 1e-9))
+        if outside.size:
+            i = int(outside[0])
+            breaches.append(
+                f"q{j + 1} = {theta[i, j]:.4f} rad at t = {t[i]:.4f} s, outside "
+                f"[{lo:g}, {hi:g}] rad"
+            )
+        fast = np.flatnonzero(np.abs(rates[:, j]) > leg.speed_limits[j] * (1 + 1e-9))
+        if fast.size:
+            i = int(fast[0])
+            breaches.append(
+                f"dq{j + 1} = {rates[i, j]:.3f} rad/s at t = {t[i]:.4f} s, beyond the "
+                f"{leg.speed_limits[j]:g} rad/s limit"
+            )
+    return breaches
+
+
+JOINTS = ("q1", "q2", "q3")
+FORMATS = ("csv", "json", "ros-yaml")
+
+
+def render(out: ControllerTrajectory, metadata: dict[str, object], fmt: str) -> str:
+    """``out`` as text in ``fmt``, ``metadata`` (robot, frame, units, digests, figures) with it."""
+    if fmt == "csv":
+        return _csv(out, metadata)
+    if fmt == "json":
+        return _json(out, metadata)
+    if fmt == "ros-yaml":
+        return _ros_yaml(out, metadata)
+    raise ValueError(f"unknown format {fmt!r} (have {', '.join(FORMATS)})")
+
+
+def _flat(metadata: dict[str, object], prefix: str = "") -> list[tuple[str, object]]:
+    out: list[tuple[str, object]] = []
+    for key, value in metadata.items():
+        if isinstance(value, dict):
+            out += _flat(value, f"{prefix}{key}.")
+        else:
+            out.append((f"{prefix}{key}", value))
+    return out
+
+
+def _csv(out: ControllerTrajectory, metadata: dict[str, object]) -> str:
+    import io
+
+    lines = [f"# {key}: {value}" for key, value in _flat(metadata)]
+    buffer = io.StringIO()
+    np.savetxt(buffer, out.table, delimiter=",", header=",".join(COLUMNS), comments="", fmt="%.9g")
+    return "\n".join(lines) + "\n" + buffer.getvalue()
+
+
+def _json(out: ControllerTrajectory, metadata: dict[str, object]) -> str:
+    import json
+
+    columns = {name: [float(v) for v in out.table[:, k]] for k, name in enumerate(COLUMNS)}
+    return json.dumps({"metadata": metadata, "columns": columns}, indent=1) + "\n"
+
+
+def _ros_yaml(out: ControllerTrajectory, metadata: dict[str, object]) -> str:
+    """trajectory_msgs/JointTrajectory as YAML (no ROS needed to write it): joint names, and per
+    point positions, velocities and time_from_start {sec, nanosec}."""
+    import yaml
+
+    points = []
+    for row in out.table:
+        sec, nanosec = divmod(round(float(row[0]) * 1e9), 1_000_000_000)
+        points.append(
+            {
+                "positions": [float(v) for v in row[5:8]],
+                "velocities": [float(v) for v in row[8:11]],
+                "time_from_start": {"sec": int(sec), "nanosec": int(nanosec)},
+            }
+        )
+    message = {
+        "header": {
+            "frame_id": str(metadata.get("frame_id", "")),
+            "stamp": {"sec": 0, "nanosec": 0},
+        },
+        "joint_names": list(JOINTS),
+        "points": points,
+    }
+    comment = "".join(f"# {key}: {value}\n" for key, value in _flat(metadata))
+    return comment + yaml.safe_dump(message, sort_keys=False, default_flow_style=None)

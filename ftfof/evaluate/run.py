@@ -30,7 +30,7 @@ from ftfof.optimize.select import FRONT
 from ftfof.robot import RobotContext
 from ftfof.rules import FootRules
 from ftfof.surrogate.predict import Surrogate
-from ftfof.trajectory.baselines import BASELINE_NAMES
+from ftfof.trajectory.baselines import BASELINE_NAMES, BezierTrajectory
 from ftfof.trajectory.bezier import DECISION_NAMES
 
 OPTIMUM = "optimum"
@@ -287,7 +287,10 @@ def export(ctx: RobotContext, inputs: Inputs, rate: float) -> ControllerTrajecto
     """The optimum as joint commands at ``rate`` Hz for the robot's controller."""
     X = np.array([inputs.optimum["decision"][n] for n in DECISION_NAMES])
     try:
-        return controller_trajectory(ctx.policy, build_leg(ctx.robot.leg), X, rate)
+        trajectory = BezierTrajectory(ctx.policy, X)
+        return controller_trajectory(
+            trajectory, ctx.policy.timing.T3, build_leg(ctx.robot.leg), rate
+        )
     except ExportRateError as err:
         raise SimulationError("evaluate.export_rate_hz", str(err)) from None
     except ValueError as err:  # the optimum leaves the leg's reach

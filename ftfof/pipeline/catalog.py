@@ -63,6 +63,7 @@ ARTEFACTS: dict[str, Artefact] = {
     "export": _a("reports/optimum_trajectory.csv", "csv", "evaluate"),
     "calibration": _a("reports/calibration.json", "json", "calibrate"),
     "simulate": _a("reports/simulate", "simulation_plots", "simulate"),
+    "exports": _a("reports/export", "controller_trajectory", "export"),
 }
 
 # format -> (its writer, its reader), as ``module:function``. The reader is None where no command
@@ -83,6 +84,7 @@ FORMATS: dict[str, tuple[str, str | None]] = {
     "csv": ("ftfof.files:atomic_path", None),
     "html": ("ftfof.files:atomic_path", None),
     "simulation_plots": ("ftfof.files:save_figure", None),
+    "controller_trajectory": ("ftfof.evaluate.export:render", None),
 }
 
 # command -> (the artefacts it reads, the artefacts it writes)

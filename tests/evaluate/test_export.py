@@ -1,11 +1,28 @@
 """Controller export: the foot path sampled at a rate, with joint angles the leg reaches."""
 
+import json
+from dataclasses import replace
+
 import numpy as np
 import pytest
+import yaml
 
-from ftfof.evaluate.export import COLUMNS, ExportRateError, controller_trajectory
+from ftfof.evaluate.export import (
+    COLUMNS,
+    ExportRateError,
+    controller_trajectory,
+    limit_breaches,
+    render,
+)
 from ftfof.kinematics.legs import build_leg
+from ftfof.trajectory.baselines import BezierTrajectory
 from ftfof.trajectory.sampling import sample_feasible
+
+
+def _export(ctx, X, rate_hz):
+    """``X`` of ``ctx``'s robot for its controller."""
+    trajectory, leg = BezierTrajectory(ctx.policy, X), build_leg(ctx.robot.leg)
+    return controller_trajectory(trajectory, ctx.policy.timing.T3, leg, rate_hz)
 
 
 @pytest.mark.parametrize("ctx_name", ["m3f", "mst_q"])
@@ -13,7 +30,7 @@ def test_joint_angles_reproduce_the_foot_path(ctx_name, request):
     ctx = request.getfixturevalue(ctx_name)
     policy, leg = ctx.policy, build_leg(ctx.robot.leg)
     X = sample_feasible(policy, 1, seed=4).X[0]
-    out = controller_trajectory(policy, leg, X, rate_hz=250.0)
+    out = _export(ctx, X, 250.0)
     T3 = policy.timing.T3
     assert out.table.shape == (int(np.floor(T3 * 250 + 1e-9)) + 1, len(COLUMNS))
     t = out.table[:, 0]
@@ -35,11 +52,43 @@ def test_unreachable_point_is_named(m3f):
     X = sample_feasible(m3f.policy, 1, seed=4).X[0].copy()
     X[6:9] = 5.0  # P3z..P5z five metres from the wall
     with pytest.raises(ValueError, match="cannot reach") as raised:
-        controller_trajectory(m3f.policy, build_leg(m3f.robot.leg), X, 100.0)
+        _export(m3f, X, 100.0)
     assert not isinstance(raised.value, ExportRateError)  # not the rate's fault
 
 
 def test_a_rate_too_low_for_three_samples_is_the_rates_fault(m3f):
     X = sample_feasible(m3f.policy, 1, seed=4).X[0]
     with pytest.raises(ExportRateError, match="fewer than 3 samples"):
-        controller_trajectory(m3f.policy, build_leg(m3f.robot.leg), X, 0.5)
+        _export(m3f, X, 0.5)
+
+
+def test_a_joint_out_of_range_or_too_fast_is_named_with_its_time(m3f):
+    X = sample_feasible(m3f.policy, 1, seed=4).X[0]
+    out = _export(m3f, X, 100.0)
+    leg = build_leg(m3f.robot.leg)
+    before = limit_breaches(out, leg)
+    assert not any(b.startswith(("q2 =", "dq3 =")) for b in before)
+    table = out.table.copy()
+    table[7, 6] = leg.joint_limits[1, 1] + 0.1  # q2 past its upper bound at the eighth sample
+    table[3:, 10] = 2 * leg.speed_limits[2]  # dq3 twice its limit from the fourth
+    after = limit_breaches(replace(out, table=table), leg)
+    q2 = next(b for b in after if b.startswith("q2 ="))
+    dq3 = next(b for b in after if b.startswith("dq3 ="))
+    assert q2.startswith(f"q2 = {table[7, 6]:.4f} rad at t = {table[7, 0]:.4f} s, outside")
+    assert f"at t = {table[3, 0]:.4f} s, beyond the {leg.speed_limits[2]:g} rad/s limit" in dq3
+
+
+def test_each_format_renders_the_table_and_its_metadata(m3f):
+    X = sample_feasible(m3f.policy, 1, seed=4).X[0]
+    out = _export(m3f, X, 50.0)
+    meta = {"robot": "mst_m3f", "frame_id": "foot", "units": {"q": "rad"}}
+    csv = render(out, meta, "csv")
+    assert csv.startswith("# robot: mst_m3f\n# frame_id: foot\n# units.q: rad\n")
+    body = [line for line in csv.splitlines() if not line.startswith("#")]
+    np.testing.assert_allclose(np.loadtxt(body[1:], delimiter=","), out.table, rtol=1e-8)
+    ros = yaml.safe_load(render(out, meta, "ros-yaml"))
+    assert len(ros["points"]) == len(out.table) and ros["header"]["frame_id"] == "foot"
+    assert ros["points"][-1]["time_from_start"] == {"sec": 1, "nanosec": 0}
+    assert json.loads(render(out, meta, "json"))["metadata"] == meta
+    with pytest.raises(ValueError, match="unknown format"):
+        render(out, meta, "xml")

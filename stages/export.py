@@ -1,0 +1,72 @@
+"""`ftfof export`: any trajectory for a robot's controller, as CSV, JSON or the YAML of a ROS
+JointTrajectory."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from ftfof.pipeline import catalog
+from stages.common import ParamsOption, console, stage
+
+OPTIMIZE = catalog.path("polish_optimize")
+METRICS = catalog.path("metrics")
+OUT_DIR = catalog.path("exports")
+SUFFIX = {"csv": "csv", "json": "json", "ros-yaml": "yaml"}
+
+
+@stage
+def command(
+    params_path: Annotated[Path, ParamsOption] = Path("params.yaml"),
+    row: Annotated[
+        int | None, typer.Option(help="A row of the front (--optimize); default: the optimum.")
+    ] = None,
+    baseline: Annotated[
+        str | None, typer.Option(help="polynomial | cycloidal | random_bezier | eps_bezier.")
+    ] = None,
+    points: Annotated[
+        str | None,
+        typer.Option(help="12 control values P3x..P12x, P3z..P12z, comma-separated."),
+    ] = None,
+    unit: Annotated[str, typer.Option(help="Unit of --points: m or mm.")] = "m",
+    optimize: Annotated[Path, typer.Option(help="The optimum and its front.")] = OPTIMIZE,
+    metrics: Annotated[
+        Path, typer.Option(help="evaluate's metrics (simulated figures).")
+    ] = METRICS,
+    rate: Annotated[
+        float | None, typer.Option(min=1e-6, help="Samples per second (evaluate.export_rate_hz).")
+    ] = None,
+    fmt: Annotated[
+        str,
+        typer.Option("--format", help="csv | json | ros-yaml (trajectory_msgs/JointTrajectory)."),
+    ] = "csv",
+    out: Annotated[
+        Path | None, typer.Option(help=f"File to write (default: {OUT_DIR}/<name>).")
+    ] = None,
+) -> None:
+    """Export the optimum, a front row, a baseline or typed points for the robot's controller:
+    foot positions and velocities, joint angles and rates, and where the trajectory came from."""
+    from ftfof.errors import ParamsError
+    from ftfof.files import atomic_path
+    from ftfof.pipeline.bench import check_points, context_of, parse_points
+    from ftfof.pipeline.export import Source, export
+    from ftfof.pipeline.params_file import load_params
+
+    if sum(x is not None for x in (row, baseline, points)) > 1:
+        raise ParamsError("export", "give at most one of --row, --baseline, --points")
+    if fmt not in SUFFIX:
+        raise ParamsError("--format", f"unknown format {fmt!r} (have {', '.join(SUFFIX)})")
+    params = load_params(params_path)
+    X = None
+    if points is not None:
+        X = parse_points(points, unit)
+        check_points(X, unit, context_of(params), allow_infeasible=False)
+    source = Source(row=row, baseline=baseline, points=X)
+    hz = params.evaluate.export_rate_hz if rate is None else rate
+    exported = export(params, source, hz, fmt, optimize, metrics)
+    path = out or OUT_DIR / f"{exported.name}.{SUFFIX[fmt]}"
+    with atomic_path(path) as tmp:
+        tmp.write_text(exported.text, encoding="utf-8")
+    console.print(f"{exported.name}: {exported.rows} samples at {hz:g} Hz ({fmt}) -> {path}")

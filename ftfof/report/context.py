@@ -22,6 +22,8 @@ from ftfof.report.evaluation import (
     paths_figure,
 )
 from ftfof.report.html import figure_data_uri
+from ftfof.report.summary import GLOSSARY, run_this
+from ftfof.report.summary import tables as summary_tables
 from ftfof.robot import RobotContext
 
 PARETO = (
@@ -125,6 +127,19 @@ def report_context(
             inputs.optimum["rhs"], ev.candidates, inputs.objectives[0], summary["choice"]
         ),
         "paper_columns": [{"key": c, "label": label} for c, label, _ in PEAKS],
+        # the paper's Table I describes the robot whose optimum it published
+        "paper_robot": ctx.robot.published_optimum is not None,
+        "tables": summary_tables(rows, reference, ctx.robot.pre_pressure),
+        "run_this": run_this(
+            rows,
+            reference,
+            ctx.robot.pre_pressure,
+            inputs.optimum["decision"],
+            inputs.optimum["rhs"],
+            summary["choice"].get("candidates", 0),
+        ),
+        "glossary": GLOSSARY,
+        "pre_pressure": ctx.robot.pre_pressure,
         "step_check": summary["step_check"],
         "film_check": summary["film_check"],
         "step_columns": [{"key": c, "label": label, "unit": unit} for c, label, unit in CHECKED],

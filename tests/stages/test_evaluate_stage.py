@@ -26,8 +26,9 @@ def test_report_is_self_contained_and_every_image_decodes(evaluated):
     html = (work / "report.html").read_text()
     assert not re.search(r"(?:https?:)?//[a-z0-9.-]+\.[a-z]{2,}", html, re.I), "external URL"
     sources = re.findall(r"""<img[^>]+src=["']([^"']+)["']""", html)
-    # paths, forces, jitter, the choice, fidelity, refinement, 3 Pareto, 2 training
-    assert len(sources) == 11
+    # paths (in the run-this box and with the figures), forces, jitter, the choice, fidelity,
+    # refinement, 3 Pareto, 2 training
+    assert len(sources) == 12
     for src in sources:
         assert src.startswith("data:image/png;base64,")
         image = Image.open(io.BytesIO(base64.b64decode(src.split(",", 1)[1])))

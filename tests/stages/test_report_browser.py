@@ -1,5 +1,6 @@
 """Stage `evaluate`'s report rendered in headless Chromium (end-to-end, minutes)."""
 
+import re
 import shutil
 import subprocess
 
@@ -26,3 +27,37 @@ def test_report_renders_in_headless_chromium(evaluated, tmp_path):
     assert image.size == (1280, 3000)
     # a rendered page, not a blank one: the table and figures put many colours on it
     assert len(image.convert("RGB").getcolors(maxcolors=1 << 20) or []) > 50
+
+
+PROBE = """<script>
+window.addEventListener("load", () => {
+  const table = document.querySelector("table.paper");
+  document.body.dataset.tableOverflow = String(table.scrollWidth > table.parentElement.clientWidth);
+  document.body.dataset.pageOverflow = String(
+    document.documentElement.scrollWidth > window.innerWidth);
+});
+</script>"""
+
+
+def test_the_first_screen_fits_1280_px_and_says_what_to_run(evaluated, tmp_path):
+    """At 1280 px the paper's table needs no horizontal scroll, and the run-this box holds the
+    chosen control points and the export command (laid out by headless Chromium)."""
+    work, *_ = evaluated
+    html = (work / "report.html").read_text()
+    probe = tmp_path / "probe.html"
+    probe.write_text(html.replace("</body>", PROBE + "</body>"))
+    chromium = shutil.which("chromium") or "/usr/bin/chromium"
+    dom = subprocess.run(
+        [
+            chromium, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
+            "--disable-background-networking", "--disable-component-update", "--disable-sync",
+            f"--user-data-dir={tmp_path / 'profile'}", "--window-size=1280,2000",
+            "--virtual-time-budget=3000", "--dump-dom", probe.as_uri(),
+        ],
+        check=True, capture_output=True, text=True, timeout=120,
+    ).stdout  # fmt: skip
+    body = re.search(r"<body[^>]*>", dom).group(0)
+    assert 'data-table-overflow="false"' in body and 'data-page-overflow="false"' in body
+    box = dom[dom.index('class="run-this"') : dom.index("Table I analogue")]
+    assert all(f"<td>P{n}</td>" in box for n in (3, 4, 5, 10, 11, 12))
+    assert "ftfof export --format ros-yaml" in box and "RHS visited" in box

@@ -47,7 +47,7 @@ def command(
     summary = run(params, paths, workers).summary
     opt = summary["table"][OPTIMUM]
     console.print(
-        f"optimum vs {params.evaluate.reference}: pull {opt['peak_pull_change']:+.1f} %, "
+        f"optimum vs {summary['reference']}: pull {opt['peak_pull_change']:+.1f} %, "
         f"detachment jitter {opt['jitter_change']:+.1f} %, landing pre-pressure "
         f"{opt['landing_pre_pressure_change']:+.1f} %, film {1e3 * opt['min_bend_radius']:.2f} mm "
         f"-> {report}"

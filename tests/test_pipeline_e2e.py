@@ -130,6 +130,16 @@ def test_a_queued_sweep_runs_in_parallel_workers_and_compares(repo):
         repo, "dvc", "metrics", "diff", "--json", "mst_q-painted_wall", "mst_m3f-painted_wall"
     )
     assert "table.optimum.peak_detachment" in json.loads(diff.stdout)["reports/metrics.json"]
+    # MST-Q detaches straight up: the polynomial and the cycloid break its rules (FTFOF §VII), so
+    # its Table I is taken against a trajectory it can run
+    quad_metrics = json.loads(
+        run(repo, "git", "show", f"{_rev(shown, 'mst_q-painted_wall')}:reports/metrics.json").stdout
+    )
+    broken = quad_metrics["robot_rules_broken"]
+    assert any("md_path" in rule for rule in broken["polynomial"]), broken
+    assert any("md_path" in rule for rule in broken["cycloidal"]), broken
+    assert quad_metrics["reference"] not in ("polynomial", "cycloidal")
+    assert broken[quad_metrics["reference"]] == []
     run(
         repo,
         "dvc",
@@ -158,3 +168,19 @@ def test_a_queued_sweep_runs_in_parallel_workers_and_compares(repo):
     for version in client.search_model_versions("name = 'ftfof-mst_m3f-mse'"):
         if "champion" in version.aliases:
             assert "dvc.exp_name" not in client.get_run(version.run_id).data.tags
+
+
+def _rev(shown: str, name: str) -> str:
+    """The commit of the experiment ``name`` in `dvc exp show --json` output."""
+
+    def walk(node):
+        if isinstance(node, dict):
+            if node.get("name") == name and isinstance(node.get("rev"), str):
+                yield node["rev"]
+            for value in node.values():
+                yield from walk(value)
+        elif isinstance(node, list):
+            for value in node:
+                yield from walk(value)
+
+    return next(walk(json.loads(shown)))

@@ -13,7 +13,7 @@ from pydantic import (
     model_validator,
 )
 
-from ftfof.config.common import Fraction, Objective, Strict, _distinct
+from ftfof.config.common import Baseline, Fraction, Objective, Strict, _distinct
 
 
 class Point(Strict):
@@ -237,6 +237,9 @@ class Robot(Strict):
     # The paper's published optimum (12 decision values, m), simulated in `evaluate` like a
     # baseline and never fitted; null where the robot has none usable here.
     published_optimum: Annotated[list[float], Field(min_length=12, max_length=12)] | None
+    # The common trajectory evaluate's Table I compares against for this robot (one it can run);
+    # None: evaluate.reference where the robot can run it, else the best baseline it can run.
+    reference: Baseline | None = None
 
     @model_validator(mode="after")
     def _film_survives_its_fc(self) -> Robot:

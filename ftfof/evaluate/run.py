@@ -7,6 +7,7 @@ only compared with them (surrogate fidelity).
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -21,6 +22,7 @@ from ftfof.data.faults import foot_faults
 from ftfof.errors import DataError, SimulationError
 from ftfof.evaluate.choice import Candidate, choice_summary, rhs_candidates
 from ftfof.evaluate.export import ControllerTrajectory, ExportRateError, controller_trajectory
+from ftfof.evaluate.feasible import reference_for
 from ftfof.evaluate.fidelity import Fidelity, fidelity, simulated_objectives
 from ftfof.evaluate.film_check import FILM, FilmCheck
 from ftfof.evaluate.step_check import FINE, StepCheck, checked_figures, step_check
@@ -144,7 +146,12 @@ def table_rows(df: pd.DataFrame, reference: str, T3: float) -> list[TableRow]:
 
 
 def checked_at_both_steps(
-    cfg: EvaluateSettings, step: float, table: pd.DataFrame, fine: pd.DataFrame, T3: float
+    cfg: EvaluateSettings,
+    reference: str,
+    step: float,
+    table: pd.DataFrame,
+    fine: pd.DataFrame,
+    T3: float,
 ) -> StepCheck | None:
     """Table I's trajectories at the acquisition's ``step`` (``table``, its successful runs) and
     at ``evaluate.check_step`` (``fine``); a run that failed at the check step is left out and
@@ -153,13 +160,13 @@ def checked_at_both_steps(
         return None
     at_step = {
         name: checked_figures(channels(row), row, T3)
-        for name, row in compared(table, cfg.reference).items()
+        for name, row in compared(table, reference).items()
     }
     at_check = {
         table_name(row.source): checked_figures(channels(row), row, T3)
         for _, row in fine[fine.status == "ok"].iterrows()
     }
-    return step_check(at_step, at_check, cfg.reference, step, cfg.check_step)
+    return step_check(at_step, at_check, reference, step, cfg.check_step)
 
 
 def front_members(
@@ -362,14 +369,23 @@ def evaluate(
     inputs: Inputs,
     simulations: pd.DataFrame,
     surrogate: Surrogate,
+    breaks: Mapping[str, list[str]],
 ) -> Evaluation:
     """Everything the report shows, from the re-simulations of the optimum, front and baselines
-    (run with the acquisition's ``solver`` on ``surface``)."""
+    (run with the acquisition's ``solver`` on ``surface``); ``breaks`` names the robot's rules
+    each Table I trajectory breaks, and the changes are taken against one the robot can run."""
     at_step, fine, on_film = split_runs(simulations)
-    table = ok_rows(at_step, cfg.reference)
+    ok = at_step[at_step.status == "ok"]
+    detachment = {
+        table_name(s): float(ok[ok.source == s].iloc[0].peak_detachment)
+        for s in ok.source
+        if s.startswith("baseline:") and s != PAPER_OPTIMUM
+    }
+    reference, reason = reference_for(cfg.reference, ctx.robot.reference, breaks, detachment)
+    table = ok_rows(at_step, reference)
     T3 = ctx.policy.timing.T3
-    rows = table_rows(table, cfg.reference, T3)
-    steps = checked_at_both_steps(cfg, solver.step, table, fine, T3)
+    rows = table_rows(table, reference, T3)
+    steps = checked_at_both_steps(cfg, reference, solver.step, table, fine, T3)
     films = checked_on_both_films(cfg.check_nodes, solver.nodes, ctx, table, on_film)
     front = judged_front(ctx, table, films)
     fid, predicted, simulated = fidelity_of(inputs, table, ctx, surrogate)
@@ -377,6 +393,8 @@ def evaluate(
     n_fidelity = len(predicted) - (0 if from_front(inputs) else 1)
     candidates = rhs_candidates(inputs.optimum, inputs.objectives)
     summary = metrics(cfg, ctx.name, surface, inputs, rows, fid, controller, n_fidelity, front)
+    summary["reference"], summary["reference_reason"] = reference, reason
+    summary["robot_rules_broken"] = {name: list(rules) for name, rules in breaks.items()}
     summary["choice"] = choice_summary(candidates)
     summary["step_check"] = None if steps is None else steps.as_dict(OPTIMUM)
     summary["film_check"] = None if films is None else films.as_dict()

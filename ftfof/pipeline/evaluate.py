@@ -11,11 +11,15 @@ import numpy as np
 import pyarrow.parquet as pq
 
 from ftfof.config import Params
+from ftfof.evaluate.feasible import admitted
 from ftfof.evaluate.run import (
+    PAPER_OPTIMUM,
     Evaluation,
     Inputs,
+    decision,
     evaluate,
     front_sample,
+    table_name,
 )
 from ftfof.evaluate.specs import evaluation_specs
 from ftfof.files import atomic_path, write_json
@@ -74,10 +78,21 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
     )
     job.finish(wall, len(todo))
     simulations = pq.read_table(job.out / FINAL).to_pandas()
+    bezier = {"optimum": decision(inputs, inputs.optimum["front_row"])}
+    if ctx.robot.published_optimum is not None:
+        bezier[table_name(PAPER_OPTIMUM)] = np.asarray(ctx.robot.published_optimum)
+    breaks = admitted(ctx, baseline_trajectories(params, ctx), bezier)
     result = evaluate(
-        params.evaluate, params.acquire.solver, params.surface, ctx, inputs, simulations, surrogate
+        params.evaluate,
+        params.acquire.solver,
+        params.surface,
+        ctx,
+        inputs,
+        simulations,
+        surrogate,
+        breaks,
     )
-    values = report_context(result, ctx, inputs, params.surface, params.evaluate.reference)
+    values = report_context(result, ctx, inputs, params.surface, result.summary["reference"])
     values["figures"] = {**pictures, **values["figures"]}
     html = render({**values, "export_path": str(paths.export), "refine": rounds})
     controller = result.controller

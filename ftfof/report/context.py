@@ -129,7 +129,10 @@ def report_context(
         "paper_columns": [{"key": c, "label": label} for c, label, _ in PEAKS],
         # the paper's Table I describes the robot whose optimum it published
         "paper_robot": ctx.robot.published_optimum is not None,
-        "tables": summary_tables(rows, reference, ctx.robot.pre_pressure),
+        "tables": summary_tables(
+            rows, reference, ctx.robot.pre_pressure, summary["robot_rules_broken"]
+        ),
+        "reference_reason": summary["reference_reason"],
         "run_this": run_this(
             rows,
             reference,

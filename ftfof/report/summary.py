@@ -53,9 +53,12 @@ def _column(key: str) -> dict[str, Any]:
     return {"key": key, "label": label, "sense": SENSE.get(key, "lower"), **scale}
 
 
-def tables(rows: list[TableRow], reference: str, a: float) -> list[dict[str, Any]]:
+def tables(
+    rows: list[TableRow], reference: str, a: float, breaks: dict[str, list[str]]
+) -> list[dict[str, Any]]:
     """Table I in two tables, the paper's columns first, each cell with its change against the
-    ``reference`` and its colour; ``a`` is the robot's optimal pre-pressure."""
+    ``reference`` and its colour; ``a`` is the robot's optimal pre-pressure; each row says
+    whether the robot can run it (``breaks``: the rules it breaks, where it was judged)."""
     ref = next(r for r in rows if r.trajectory == reference)
     other = [c for c, _, _ in COLUMNS if c not in PAPER]
     out = []
@@ -71,8 +74,10 @@ def tables(rows: list[TableRow], reference: str, a: float) -> list[dict[str, Any
                 }
                 for c in columns
             ]
-            body.append({"trajectory": row.trajectory, "cells": cells})
-        out.append({"title": title, "columns": columns, "rows": body})
+            broken = breaks.get(row.trajectory)
+            runs = "–" if broken is None else ("yes" if not broken else f"no: {broken[0]}")
+            body.append({"trajectory": row.trajectory, "cells": cells, "runs": runs})
+        out.append({"title": title, "columns": columns, "rows": body, "feasibility": not out})
     return out
 
 

@@ -32,6 +32,7 @@ from ftfof.trajectory.feasibility import (
     Population,
     report,
 )
+from ftfof.trajectory.piecewise import Sampled
 
 Array = NDArray[np.float64]
 
@@ -259,6 +260,15 @@ class ConstraintPolicy:
         ctx = Population(np.atleast_2d(np.asarray(X, dtype=float)), self.sample, samples)
         rules = self.constraints if constraints is None else constraints
         return report(rules, np.column_stack([c.violation(ctx) for c in rules]))
+
+    def path_failures(self, trajectory: Sampled) -> list[str]:
+        """The rules on the sampled path (reach, speed, the wall, md_path, bends) that
+        ``trajectory`` breaks on the policy grid: how a trajectory that is not a Bezier row of
+        this robot (a common baseline) is judged."""
+        rules = tuple(c for c in self.constraints if c.sampled)
+        samples = trajectory.sample(self.t)
+        X = np.zeros((1, len(DECISION_NAMES)))  # no control points: only path rules run
+        return self.check(X, samples=samples, constraints=rules).failed(0)
 
     def screen(self, X: Array, chunk: int = 8192) -> FeasibilityReport:
         """Like :meth:`check`, but the sampled-trajectory rules run only on rows that pass the

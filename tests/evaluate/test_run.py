@@ -18,6 +18,7 @@ from ftfof.evaluate.run import (
     ok_rows,
     table_rows,
 )
+from ftfof.evaluate.table import COLUMNS, table_one
 from ftfof.rules import FootRules
 from ftfof.sim.film import FilmLimit
 from tests.data.fake import fake_channels
@@ -166,3 +167,35 @@ def test_the_table_lists_the_reference_then_baselines_then_the_paper_optimum_the
     assert ours.change["peak_pull"] == pytest.approx(-50.0)
     assert ours.change["min_bend_radius"] == pytest.approx(100.0)  # bent twice as gently
     assert set(ours.values) >= {"peak_pull", "peak_normal", "peak_shear", "min_bend_radius"}
+
+
+def test_mst_q_cannot_run_the_common_arcs_and_its_reference_is_one_it_can(mst_q, params):
+    """FTFOF §VII: the polynomial and the cycloid lift along an arc from the first instant;
+    MST-Q must detach straight up. Its Table I is taken against a baseline it can run."""
+    from ftfof.evaluate.feasible import admitted, reference_for
+    from ftfof.report.summary import tables
+    from ftfof.seeds import seed_for
+    from ftfof.trajectory.baselines import common_trajectories
+
+    baselines = common_trajectories(
+        mst_q.policy, params.baselines, seed_for(params.base.seed, "baselines")
+    )
+    breaks = admitted(mst_q, baselines, {})
+    assert any("md_path" in rule for rule in breaks["polynomial"])
+    assert any("md_path" in rule for rule in breaks["cycloidal"])
+    assert breaks["random_bezier"] == []  # the robot's own sampler drew it
+    detachment = {"polynomial": 7.0, "cycloidal": 6.0, "random_bezier": 8.0, "eps_bezier": 5.0}
+    reference, why = reference_for("polynomial", None, breaks, detachment)
+    assert reference == "random_bezier" and why.startswith("polynomial breaks the robot's rules")
+    assert reference_for("polynomial", "cycloidal", breaks, detachment)[0] == "cycloidal"
+    rows = table_one(
+        {n: dict.fromkeys(("peak_detachment", "peak_pre_pressure", "peak_body_acc"), 1.0)
+         | dict.fromkeys(("peak_pull", "peak_normal", "peak_shear", "jitter"), 1.0)
+         | {"landing_pre_pressure": 5.0, "min_bend_radius": 0.007}
+         for n in ("random_bezier", "polynomial")},
+        "random_bezier",
+        COLUMNS,
+    )  # fmt: skip
+    first, _ = tables(rows, "random_bezier", 5.0, breaks)
+    runs = {r["trajectory"]: r["runs"] for r in first["rows"]}
+    assert runs["random_bezier"] == "yes" and runs["polynomial"].startswith("no: min_detachment")

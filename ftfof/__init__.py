@@ -6,4 +6,15 @@ the stages share (jobs, files, digests, MLflow); the commands that read params l
 sibling package ``stages``.
 """
 
-__version__ = "0.1.0"
+from ftfof.version import __version__
+
+__all__ = ["__version__", "open_run"]
+
+
+def __getattr__(name: str):
+    """``ftfof.open_run``, imported on first use: the package itself stays light."""
+    if name == "open_run":
+        from ftfof.pipeline.notebook import open_run
+
+        return open_run
+    raise AttributeError(f"module 'ftfof' has no attribute {name!r}")

@@ -43,9 +43,9 @@ def _version(shown: bool) -> None:
     if shown:
         from importlib.metadata import version
 
-        import ftfof
+        from ftfof.version import __version__
 
-        print(f"ftfof {ftfof.__version__} (exudyn {version('exudyn')}, torch {version('torch')})")
+        print(f"ftfof {__version__} (exudyn {version('exudyn')}, torch {version('torch')})")
         raise typer.Exit
 
 

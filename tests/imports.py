@@ -20,12 +20,19 @@ def module_file(module: str) -> Path | None:
 
 
 def imported_modules(path: Path) -> set[str]:
-    """Every project module ``path`` names in an import, wherever the import stands."""
+    """Every project module ``path`` names in an import, wherever the import stands, but inside a
+    module's ``__getattr__`` (PEP 562): an attribute loaded on first use, which importing the
+    module does not load (``ftfof.open_run``)."""
     package = ".".join(path.relative_to(ROOT).with_suffix("").parts)
     if path.name != "__init__.py":
         package = package.rpartition(".")[0]
     found: set[str] = set()
-    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+    tree = ast.parse(path.read_text(), str(path))
+    lazy = [n for n in tree.body if isinstance(n, ast.FunctionDef) and n.name == "__getattr__"]
+    skipped = {id(node) for function in lazy for node in ast.walk(function)}
+    for node in ast.walk(tree):
+        if id(node) in skipped:
+            continue
         if isinstance(node, ast.Import):
             found.update(alias.name for alias in node.names)
         elif isinstance(node, ast.ImportFrom):

@@ -15,6 +15,7 @@ RANKS = {
     "ftfof.seeds": 0,
     "ftfof.stats": 0,
     "ftfof.config": 0,
+    "ftfof.version": 0,
     "ftfof.digests": 1,
     "ftfof.objectives": 1,
     "ftfof.kinematics": 1,

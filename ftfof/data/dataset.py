@@ -20,7 +20,7 @@ import numpy as np
 import pyarrow as pa
 from numpy.typing import NDArray
 
-from ftfof import config
+import ftfof.config as config
 from ftfof.data import targets as tg
 from ftfof.data.schema import field
 from ftfof.errors import DataError

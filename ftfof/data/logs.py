@@ -15,7 +15,7 @@ import re
 import numpy as np
 import pandas as pd
 
-from ftfof import config
+import ftfof.config as config
 from ftfof.errors import DataError
 from ftfof.sim.records import CHANNELS, SampleResult, Status, force_peaks
 

@@ -21,7 +21,7 @@ from typing import Protocol
 import numpy as np
 from numpy.typing import NDArray
 
-from ftfof import config
+import ftfof.config as config
 
 Array = NDArray[np.float64]
 

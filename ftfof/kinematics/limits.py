@@ -16,7 +16,7 @@ from pymoo.algorithms.moo.nsga2 import NSGA2
 from pymoo.core.problem import Problem
 from pymoo.optimize import minimize
 
-from ftfof import config
+import ftfof.config as config
 from ftfof.errors import InfeasibleRobotError
 from ftfof.kinematics.legs import Array, Leg, build_leg, within_limits
 

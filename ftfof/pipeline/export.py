@@ -11,7 +11,6 @@ from typing import Any
 
 import numpy as np
 
-import ftfof
 from ftfof.config import Params
 from ftfof.digests import json_sha256
 from ftfof.errors import DataError, ParamsError
@@ -29,6 +28,7 @@ from ftfof.robot import RobotContext
 from ftfof.trajectory.baselines import BezierTrajectory
 from ftfof.trajectory.bezier import DECISION_NAMES
 from ftfof.trajectory.piecewise import Sampled
+from ftfof.version import __version__
 
 FRAME = (
     "trajectory frame: origin at the foot's start point P0, x along the wall in the step's "
@@ -76,7 +76,7 @@ def export(
     if breaches:
         raise ParamsError(name, f"{ctx.name}'s leg cannot run it: {'; '.join(breaches[:3])}")
     metadata = {
-        "ftfof": ftfof.__version__,
+        "ftfof": __version__,
         "robot": ctx.name,
         "leg": ctx.robot.leg.type,
         "surface": params.surface,

@@ -21,7 +21,6 @@ import numpy as np
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-import ftfof
 from ftfof.config import Params
 from ftfof.data.acquisition import ACQUISITION, PENDING, summarize, to_table
 from ftfof.data.schema import TRAJECTORIES
@@ -36,6 +35,7 @@ from ftfof.sim import pool
 from ftfof.sim.simulate import SampleResult
 from ftfof.sim.spec import SampleSpec
 from ftfof.trajectory.bezier import DECISION_NAMES
+from ftfof.version import __version__
 
 FINAL = "samples.parquet"
 PENDING_DIR = "pending"
@@ -249,13 +249,13 @@ def versions() -> dict[str, str]:
     """The code that made a job's numbers: part of its fingerprint and of the dataset's metadata."""
     import exudyn
 
-    return {"ftfof": ftfof.__version__, "exudyn": exudyn.__version__}
+    return {"ftfof": __version__, "exudyn": exudyn.__version__}
 
 
 def source() -> str:
     """A digest of ftfof's Python source: an interrupted job resumes only under the code that
     began it (the version string does not change with every edit)."""
-    return tree_sha256(Path(ftfof.__file__).parent, "*.py")
+    return tree_sha256(Path(__file__).resolve().parents[1], "*.py")  # the ftfof package
 
 
 def open_resumable(out: Path, identity: dict[str, object]) -> str:

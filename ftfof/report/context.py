@@ -42,6 +42,14 @@ STAGE_FIGURES = (*PARETO, *TRAINING, *REFINEMENT)  # the PNGs the stages before 
 PLOTTED = ("t", "x_cmd", "z_cmd", "Fd", "Fp", "body_acc")  # channels the report's figures use
 
 
+def plotted_channels(df: pd.DataFrame, reference: str) -> dict[str, dict[str, np.ndarray]]:
+    """By Table I name, the channels the report's figures draw, of each compared run in ``df``."""
+    return {
+        name: {c: np.asarray(row[c], dtype=float) for c in PLOTTED}
+        for name, row in compared(df, reference).items()
+    }
+
+
 def simulation_figures(
     df: pd.DataFrame,
     predicted: np.ndarray,
@@ -54,10 +62,7 @@ def simulation_figures(
     """Fig. 11, 12, 14 from the simulated channels of the optimum and baselines; fidelity; the
     choice among the simulated candidates (when there were any), with the reference trajectory
     and the published optimum placed by their Table I values."""
-    channels = {
-        name: {c: np.asarray(row[c], dtype=float) for c in PLOTTED}
-        for name, row in compared(df, reference).items()
-    }
+    channels = plotted_channels(df, reference)
     figures = {
         "paths": figure_data_uri(paths_figure(channels, OPTIMUM)),
         "forces": figure_data_uri(forces_figure(channels, OPTIMUM)),

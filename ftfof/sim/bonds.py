@@ -43,7 +43,7 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from ftfof import config
+import ftfof.config as config
 
 Array = NDArray[np.float64]
 

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import minimize
 
-from ftfof import config
+import ftfof.config as config
 from ftfof.sim import film
 from ftfof.sim.pool import run_all
 from ftfof.sim.records import SampleResult

@@ -24,7 +24,7 @@ from exudyn.itemInterface import (
     SensorKinematicTree,
 )
 
-from ftfof import config
+import ftfof.config as config
 from ftfof.errors import SimulationError
 from ftfof.kinematics.legs import build_leg
 

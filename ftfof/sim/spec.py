@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ftfof import config
+import ftfof.config as config
 from ftfof.seeds import seed_for
 from ftfof.trajectory.bezier import evaluate
 from ftfof.trajectory.piecewise import PiecewiseQuintic, Sampled

@@ -29,7 +29,7 @@ import numpy as np
 import torch
 from numpy.typing import NDArray
 
-from ftfof import config
+import ftfof.config as config
 from ftfof.surrogate.dilate import dilate_loss, soft_dtw
 from ftfof.surrogate.model import ForceGRU, ModelConfig
 

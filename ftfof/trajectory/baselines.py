@@ -19,7 +19,7 @@ from typing import get_args
 import numpy as np
 from numpy.typing import NDArray
 
-from ftfof import config
+import ftfof.config as config
 from ftfof.trajectory.bezier import Samples
 from ftfof.trajectory.piecewise import Sampled
 from ftfof.trajectory.policy import ConstraintPolicy

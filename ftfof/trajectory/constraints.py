@@ -16,7 +16,7 @@ from collections.abc import Callable
 import numpy as np
 from numpy.typing import NDArray
 
-from ftfof import config
+import ftfof.config as config
 from ftfof.kinematics.limits import RobotLimits
 from ftfof.objectives import fs6_bending
 from ftfof.trajectory.feasibility import Bound, Constraint, Population

@@ -19,7 +19,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from ftfof import config
+import ftfof.config as config
 from ftfof.errors import InfeasibleRobotError
 from ftfof.kinematics.limits import RobotLimits
 from ftfof.trajectory.bezier import DECISION_NAMES, Samples, evaluate

@@ -16,7 +16,7 @@ import pandas as pd
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from ftfof.evaluate.run import PAPER_OPTIMUM, figures_of
+from ftfof.evaluate.runs import PAPER_OPTIMUM, figures_of
 from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, context_of
 from ftfof.pipeline.params_file import load_params
 from ftfof.sim import pool

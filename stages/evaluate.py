@@ -38,7 +38,7 @@ def command(
     workers: Annotated[int | None, typer.Option(help="Override acquire.workers.")] = None,
 ) -> None:
     """Re-simulate the optimum against the common trajectories; report, metrics, export."""
-    from ftfof.evaluate.run import OPTIMUM
+    from ftfof.evaluate.runs import OPTIMUM
     from ftfof.pipeline.evaluate import Paths, run
     from ftfof.pipeline.params_file import load_params
 

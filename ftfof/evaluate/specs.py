@@ -10,7 +10,8 @@ from dataclasses import replace
 import numpy as np
 
 from ftfof.evaluate.film_check import FILM
-from ftfof.evaluate.run import OPTIMUM, PAPER_OPTIMUM, Inputs, decision
+from ftfof.evaluate.run import Inputs, decision
+from ftfof.evaluate.runs import OPTIMUM, PAPER_OPTIMUM
 from ftfof.evaluate.step_check import FINE
 from ftfof.sim.spec import Bench, SampleSpec
 

@@ -12,15 +12,8 @@ import pyarrow.parquet as pq
 
 from ftfof.config import Params
 from ftfof.evaluate.feasible import admitted
-from ftfof.evaluate.run import (
-    PAPER_OPTIMUM,
-    Evaluation,
-    Inputs,
-    decision,
-    evaluate,
-    front_sample,
-    table_name,
-)
+from ftfof.evaluate.run import Evaluation, Inputs, decision, evaluate, front_sample
+from ftfof.evaluate.runs import PAPER_OPTIMUM, table_name
 from ftfof.evaluate.specs import evaluation_specs
 from ftfof.files import atomic_path, write_json
 from ftfof.pipeline import tracking

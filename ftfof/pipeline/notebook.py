@@ -20,7 +20,7 @@ import pandas as pd
 import pyarrow.parquet as pq
 
 from ftfof.errors import DataError
-from ftfof.evaluate.run import OPTIMUM, split_runs
+from ftfof.evaluate.runs import OPTIMUM, split_runs
 from ftfof.pipeline import catalog
 from ftfof.pipeline.artefacts import FRONT_FILE, OPTIMUM_FILE, run_first
 from ftfof.trajectory.bezier import DECISION_NAMES

@@ -24,15 +24,8 @@ from ftfof.data import targets
 from ftfof.data.refinement import grow, round_rows
 from ftfof.errors import SimulationError
 from ftfof.evaluate.fidelity import Fidelity, relative_error, simulated_objectives, target_met
-from ftfof.evaluate.run import (
-    OPTIMUM,
-    Inputs,
-    channels,
-    fidelity_of,
-    from_front,
-    judged_front,
-    simulated_rows,
-)
+from ftfof.evaluate.run import Inputs, fidelity_of, from_front, judged_front
+from ftfof.evaluate.runs import OPTIMUM, channels, simulated_rows
 from ftfof.optimize.select import FRONT, Nominees, Outcome, SimulatorCheck, rhs_ranking
 from ftfof.robot import RobotContext
 from ftfof.seeds import seed_for

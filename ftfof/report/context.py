@@ -9,7 +9,8 @@ import numpy as np
 import pandas as pd
 
 from ftfof.evaluate.choice import TABLE_ANALOGUE, Candidate
-from ftfof.evaluate.run import OPTIMUM, PAPER_OPTIMUM, Evaluation, Inputs, compared, table_name
+from ftfof.evaluate.run import Evaluation, Inputs
+from ftfof.evaluate.runs import OPTIMUM, PAPER_OPTIMUM, compared, table_name
 from ftfof.evaluate.step_check import CHECKED
 from ftfof.evaluate.table import COLUMNS, PEAKS, TableRow
 from ftfof.optimize.polish import POLISH

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from ftfof.evaluate.run import PAPER_OPTIMUM, table_name
+from ftfof.evaluate.runs import PAPER_OPTIMUM, table_name
 from ftfof.evaluate.table import COLUMNS, TableRow
 from ftfof.trajectory.bezier import DECISION_NAMES
 

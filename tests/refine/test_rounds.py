@@ -8,7 +8,7 @@ import pytest
 from ftfof.config import Optimize, Refine, RefineTarget, Train
 from ftfof.errors import SimulationError
 from ftfof.evaluate.fidelity import fidelity
-from ftfof.evaluate.run import OPTIMUM
+from ftfof.evaluate.runs import OPTIMUM
 from ftfof.optimize.select import rhs_ranking
 from ftfof.refine.rounds import (
     Measured,

@@ -12,7 +12,7 @@ move the verified candidates to where the simulator, not the surrogate, says the
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -140,18 +140,20 @@ def polish(
     spread: float,
     first_row: int = 0,
     start_verdicts: Sequence[Verdict] | None = None,
+    on_record: Callable[[ConvergenceRecord], None] | None = None,
 ) -> Polished:
     """NSGA-II on :class:`SimulatedProblem` from ``start`` (full decision rows, filled up to the
     population with copies off by ``spread``). ``start_verdicts``, one per start row, are the
     check's earlier verdicts on them: taken as measured, not simulated again. Deterministic for
-    the seed and the check. An empty result when no trajectory passed."""
+    the seed and the check. An empty result when no trajectory passed; ``on_record`` hears of
+    each generation."""
     started = time.perf_counter()
     as_searched = policy.expand(policy.contract(np.atleast_2d(start)))  # the bytes pymoo asks
     earlier = start_verdicts if start_verdicts is not None else [None] * len(as_searched)
     known = {x.tobytes(): v for x, v in zip(as_searched, earlier, strict=True) if v is not None}
     problem = SimulatedProblem(policy, check, priorities, first_row, known)
     initial = start_population(start, settings.population, spread, settings.seed, policy)
-    result = search(problem, settings, initial)
+    result = search(problem, settings, initial, on_record)
     measured = {**problem.known, **problem.verdicts}
     keys = best_layers(measured, priorities, settings.population)
     X = np.array([np.frombuffer(k) for k in keys]).reshape(len(keys), -1)

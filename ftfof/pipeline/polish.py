@@ -24,6 +24,7 @@ from ftfof.digests import bytes_sha256, models_digest
 from ftfof.evaluate.run import Inputs, decision
 from ftfof.files import atomic_dir, write_json
 from ftfof.optimize.polish import Polished, polish, polish_report, polish_settings, polished_outcome
+from ftfof.optimize.search import ConvergenceRecord
 from ftfof.optimize.select import SimulatorCheck, Verdict, fine_policy
 from ftfof.pipeline import tracking
 from ftfof.pipeline.artefacts import (
@@ -36,7 +37,7 @@ from ftfof.pipeline.artefacts import (
     write_optimum,
 )
 from ftfof.pipeline.bench import context_of
-from ftfof.pipeline.console import console
+from ftfof.pipeline.console import console, progress
 from ftfof.pipeline.jobs import close_resumable, open_resumable
 from ftfof.robot import RobotContext
 from ftfof.trajectory.bezier import DECISION_NAMES
@@ -115,7 +116,16 @@ def _polish(
     )
     check = journaled(simulator_check_of(params, ctx), paths.out / JOURNAL)
     fine = fine_policy(ctx, params.optimize.recheck_samples)
-    result = polish(fine, check, start, settings, cfg.priorities, cfg.spread, FIRST_ROW, passed)
+    with progress("polish") as bar:
+        task = bar.add_task("polish", total=cfg.generations, info="")
+
+        def record(r: ConvergenceRecord) -> None:
+            info = f"{r.feasible} feasible, front {r.front}"
+            bar.update(task, completed=r.generation, info=info)
+
+        result = polish(
+            fine, check, start, settings, cfg.priorities, cfg.spread, FIRST_ROW, passed, record
+        )
     if not len(result.X):
         why = f"none of the {result.simulated} trajectories simulated passed the check"
         return {"polished": False, "reason": why, "simulated": result.simulated}

@@ -158,12 +158,7 @@ def _track(params: Params, inputs: Inputs, summary: dict, artifacts: tuple[Path,
             if value == value:  # MLflow rejects NaN
                 metrics[f"fidelity.{objective}.{key}"] = float(value)
     with mlflow.start_run(run_name="evaluate", tags={**tracking.tags("evaluate"), **link}):
-        settings = {
-            "evaluate": params.evaluate.model_dump(),
-            "robot": params.robot,
-            "surface": params.surface,
-        }
-        mlflow.log_params(tracking.flatten(settings))
+        mlflow.log_params(tracking.run_params(params, evaluate=params.evaluate.model_dump()))
         mlflow.log_metrics(metrics)
         for path in artifacts:
             mlflow.log_artifact(str(path), artifact_path="report")

@@ -157,16 +157,15 @@ class OptimizeRun:
         )
         run = self._context.__enter__()
         self.mlflow, self.run_id = mlflow, run.info.run_id
-        settings = {
-            "optimize": params.optimize.model_dump(),
-            "robot": params.robot,
-            "surface": params.surface,
-            "objectives": ",".join(setup.ctx.robot.objectives),
-            "free_variables": ",".join(setup.ctx.policy.free_names),
-            "models_digest": digest,
-            "model": setup.registered.uri,
-        }
-        mlflow.log_params(tracking.flatten(settings))
+        settings = tracking.run_params(
+            params,
+            optimize=params.optimize.model_dump(),
+            objectives=",".join(setup.ctx.robot.objectives),
+            free_variables=",".join(setup.ctx.policy.free_names),
+            models_digest=digest,
+            model=setup.registered.uri,
+        )
+        mlflow.log_params(settings)
         return self
 
     def __exit__(self, *exc) -> bool:

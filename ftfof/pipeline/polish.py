@@ -216,7 +216,7 @@ def _track(params: Params, inputs: Inputs, report: dict[str, Any], paths: Paths)
     )
     link[tracking.OPTIMUM_DIGEST_TAG] = optimum_digest(paths.out / OPTIMUM)
     with mlflow.start_run(run_name="polish", tags={**tracking.tags("polish"), **link}):
-        mlflow.log_params(tracking.flatten({"polish": params.polish.model_dump()}))
+        mlflow.log_params(tracking.run_params(params, polish=params.polish.model_dump()))
         metrics = {"seconds": report["seconds"]}
         if report["polished"]:
             metrics["simulated"] = report["simulated"]

@@ -363,8 +363,8 @@ def _track(
         tracking.OPTIMUM_DIGEST_TAG: optimum_digest(paths.out / "optimize"),
     }
     with mlflow.start_run(run_name="refine", tags=parent_tags):
-        settings = {"refine": params.refine.model_dump(), "robot": params.robot}
-        mlflow.log_params(tracking.flatten({**settings, "surface": params.surface}))
+        settings = tracking.run_params(params, refine=params.refine.model_dump())
+        mlflow.log_params(settings)
         mlflow.log_metric("rounds", len(rounds))
         for path in artifacts:
             mlflow.log_artifact(str(path), artifact_path="report")
@@ -376,6 +376,7 @@ def _track(
                 nested=True,
                 tags={**tags, **links, "round": str(r["round"])},
             ) as child:
+                mlflow.log_params({**settings, "round": str(r["round"])})
                 mlflow.log_metrics(_metrics(r))
                 if (rdir / "models").is_dir():
                     mlflow.log_artifacts(str(rdir / "models"), artifact_path="models")

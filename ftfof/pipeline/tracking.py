@@ -8,8 +8,12 @@ import os
 import subprocess
 import warnings
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ftfof.pipeline import catalog, machine
+
+if TYPE_CHECKING:
+    from ftfof.config import Params
 
 EXPERIMENT_PREFIX = "ftfof"
 MODELS_DIGEST_TAG = "ftfof.models_digest"  # on the train run that wrote data/models
@@ -103,6 +107,19 @@ def flatten(data: dict, prefix: str = "") -> dict[str, str]:
         else:
             out[name] = str(value)
     return out
+
+
+def run_params(params: Params, **sections: object) -> dict[str, str]:
+    """What a stage's run logs as MLflow params: its settings ``sections``, the robot and
+    surface, and the seeds every random stream comes from (``base.seed``, and the search's)."""
+    return flatten(
+        {
+            **sections,
+            "robot": params.robot,
+            "surface": params.surface,
+            "base": {"seed": params.base.seed, "search_seed": params.search_seed},
+        }
+    )
 
 
 def latest_run(mlflow, experiment: str, run_name: str, tag: str, value: str) -> str | None:

@@ -40,14 +40,12 @@ def track(
         f"mlflow=={mlflow.__version__}",
         f"numpy=={np.__version__}",
     ]
-    settings = {
-        "train": cfg.model_dump(),
-        "dataset": params.dataset.model_dump(),
-        "robot": params.robot,
-        "surface": params.surface,
-        "dataset_digest": data.metadata_digest,
-    }
-    flat = tracking.flatten(settings)
+    flat = tracking.run_params(
+        params,
+        train=cfg.model_dump(),
+        dataset=params.dataset.model_dump(),
+        dataset_digest=data.metadata_digest,
+    )
     with mlflow.start_run(run_name="train", tags=parent_tags):
         mlflow.log_input(dataset_input, context="training")
         mlflow.log_params(flat)

@@ -66,3 +66,11 @@ def test_link_tags_point_at_the_latest_matching_run(tmp_path: Path, monkeypatch)
     assert run_id == latest and link[tracking.SURROGATE_RUN_TAG] == latest
     note = link["mlflow.note.content"]
     assert note.startswith(f"Surrogates: run [{latest}](#/experiments/") and note.endswith(").")
+
+
+def test_every_run_logs_its_settings_the_robot_and_the_seeds(params):
+    logged = tracking.run_params(params, polish={"generations": 16, "nested": {"a": 1}})
+    assert logged["polish.generations"] == "16" and logged["polish.nested.a"] == "1"
+    assert logged["robot"] == params.robot and logged["surface"] == params.surface
+    assert logged["base.seed"] == str(params.base.seed)
+    assert logged["base.search_seed"] == str(params.search_seed)

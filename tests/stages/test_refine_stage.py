@@ -161,6 +161,10 @@ def test_mlflow_parent_run_with_a_linked_child_per_round(optimized, refined):
     assert second.data.tags["ftfof.optimize_run"] == first.info.run_id
     assert "fidelity.fs1.mae" in second.data.metrics and "added" in second.data.metrics
     assert client.list_artifacts(second.info.run_id, "models")
+    # every run says what produced it: its settings and the seeds, each round its number
+    seed = str(optimized[3]["base"]["seed"])
+    assert parent.data.params["base.seed"] == seed and "refine.rounds" in parent.data.params
+    assert second.data.params["base.seed"] == seed and second.data.params["round"] == "2"
 
 
 class KilledError(Exception):

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import multiprocessing
 import os
+import signal
 from collections import deque
 from collections.abc import Callable, Generator, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
@@ -67,13 +68,22 @@ def _context() -> multiprocessing.context.BaseContext:
     return multiprocessing.get_context(POOL_START)
 
 
+def _leave_interrupts_to_the_parent() -> None:
+    """A worker ignores Ctrl-C: the terminal sends it to the whole process group, and a stop
+    raised inside a simulation's callback would come back as that sample's failure. The parent
+    decides when to stop (after the batch in hand)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
 def _pool_pass(
     queue: deque[list[SampleSpec]], workers: int, task: Task
 ) -> Generator[list[SampleResult], None, list[SampleSpec]]:
     """Run batches off ``queue`` until it is empty or a worker dies; return the specs in flight
     when it died (their results are lost with the pool, and any of them may be the cause)."""
     suspects: list[SampleSpec] = []
-    with ProcessPoolExecutor(max_workers=workers, mp_context=_context()) as pool:
+    with ProcessPoolExecutor(
+        max_workers=workers, mp_context=_context(), initializer=_leave_interrupts_to_the_parent
+    ) as pool:
         pending: dict[Future[list[SampleResult]], list[SampleSpec]] = {}
 
         def submit(n: int) -> None:
@@ -102,7 +112,9 @@ def _pool_pass(
 
 def _alone(spec: SampleSpec, task: Task) -> list[SampleResult]:
     """``spec`` in a process of its own: a crash there can only be its own."""
-    with ProcessPoolExecutor(max_workers=1, mp_context=_context()) as pool:
+    with ProcessPoolExecutor(
+        max_workers=1, mp_context=_context(), initializer=_leave_interrupts_to_the_parent
+    ) as pool:
         try:
             return pool.submit(task, [spec]).result()
         except BrokenProcessPool as err:

@@ -106,11 +106,15 @@ def test_an_interrupt_says_what_was_kept():
 
 
 @pytest.mark.integration
-def test_sigterm_stops_acquire_with_a_word_and_a_rerun_resumes(tmp_path, raw_params):
-    """A scheduler's SIGTERM mid-acquisition: one line on stderr, exit 130, finished parts kept;
-    the same command again simulates only what is left."""
+@pytest.mark.parametrize(
+    ("stop", "workers"), [(signal.SIGTERM, 1), (signal.SIGINT, 2)], ids=["sigterm", "ctrl-c"]
+)
+def test_a_stop_ends_acquire_with_a_word_and_a_rerun_resumes(tmp_path, raw_params, stop, workers):
+    """A scheduler's SIGTERM, or Ctrl-C sent to the whole process group (workers too),
+    mid-acquisition: one line on stderr, exit 130, finished parts kept and none of them a sample
+    failed by the stop; the same command again simulates only what is left."""
     data = {**raw_params, "sample": {**raw_params["sample"], "n": 12}}
-    data["acquire"] = {**raw_params["acquire"], "workers": 1, "batch": 1}
+    data["acquire"] = {**raw_params["acquire"], "workers": workers, "batch": 1}
     params = write_params(tmp_path / "params.yaml", data)
     traj, out = tmp_path / "traj.parquet", tmp_path / "acq"
     sample = cli_args("sample", params, out=traj, metrics=tmp_path / "s.json")
@@ -118,16 +122,30 @@ def test_sigterm_stops_acquire_with_a_word_and_a_rerun_resumes(tmp_path, raw_par
     cmd = [sys.executable, "-m", "ftfof", *cli_args("acquire", params, trajectories=traj, out=out)]
     cmd += ["--metrics", str(tmp_path / "a.json"), "--timing", str(tmp_path / "t.csv")]
     env = {**os.environ, "MLFLOW_TRACKING_URI": f"sqlite:///{tmp_path / 'mlflow.db'}"}
-    proc = subprocess.Popen(cmd, cwd=ROOT, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    proc = subprocess.Popen(
+        cmd,
+        cwd=ROOT,
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        start_new_session=True,
+    )
     deadline = time.monotonic() + 120
     while not list((out / "pending").glob("part-*.parquet")) and time.monotonic() < deadline:
         time.sleep(0.2)
-    proc.send_signal(signal.SIGTERM)
+    if stop == signal.SIGINT:
+        os.killpg(proc.pid, stop)  # as a terminal's Ctrl-C: the whole group
+    else:
+        proc.send_signal(stop)
     _, err = proc.communicate(timeout=120)
     assert proc.returncode == INTERRUPTED, err.decode()
     assert "interrupted: its finished simulations are kept" in err.decode()
     parts = list((out / "pending").glob("part-*.parquet"))
     kept = sum(pq.read_metadata(p).num_rows for p in parts)
+    statuses = [
+        s for p in parts for s in pq.read_table(p, columns=["status"]).column(0).to_pylist()
+    ]
+    assert set(statuses) == {"ok"}  # no sample was failed by the stop
     assert kept >= 1 and f"kept ({out / 'pending'})" in err.decode()
     again = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True, timeout=300)
     assert again.returncode == 0, again.stderr

@@ -3,7 +3,7 @@
 import pytest
 
 from ftfof.errors import ParamsError
-from ftfof.pipeline.sweep import check_presets, failed, parse_axes, plan, unfinished
+from ftfof.pipeline.sweep import check_presets, failed, key_columns, parse_axes, plan, unfinished
 
 
 def test_the_product_names_every_setting_in_every_experiment():
@@ -82,3 +82,36 @@ def test_queue_status_is_read_for_the_sweeps_own_experiments_only():
     names = ["mst_q-glass", "mst_m3f-glass", "mst_q-acryl"]
     assert unfinished(STATUS, names) == ["mst_q-glass", "mst_m3f-glass"]
     assert failed(STATUS, names) == ["mst_q-acryl"]
+
+
+def test_a_finished_sweep_prints_its_key_columns_only():
+    def experiment(name, robot, pull, change):
+        return {
+            "name": name,
+            "rev": "0" * 40,
+            "data": {
+                "params": {"params.yaml": {"data": {
+                    "robot": robot, "surface": "glass", "base": {"seed": 7},
+                }}},
+                "metrics": {"reports/metrics.json": {"data": {
+                    "reference": "polynomial",
+                    "table": {"optimum": {"peak_pull": pull, "peak_pull_change": change}},
+                }}},
+            },
+        }  # fmt: skip
+
+    shown = [
+        {
+            "name": "main",
+            "data": {},
+            "experiments": [{"revs": [experiment("s-mst_q-glass", "mst_q", 6.5, -4.04)]}],
+        },
+        experiment("s-mst_m3f-glass", "mst_m3f", 7.1, 1.0),
+    ]
+    table = key_columns(shown, ["s-mst_m3f-glass", "s-mst_q-glass"]).splitlines()[2:]
+    assert table[0].startswith("| experiment | robot | surface | seed | reference |")
+    assert table[2] == (
+        "| s-mst_m3f-glass | mst_m3f | glass | 7 | polynomial | 7.1 (+1.0 %) | ? | ? | ? |"
+    )
+    assert table[3].startswith("| s-mst_q-glass | mst_q | glass | 7 | polynomial | 6.5 (-4.0 %)")
+    assert len(table) == 4 and all(len(line) < 200 for line in table)

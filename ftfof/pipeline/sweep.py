@@ -12,6 +12,7 @@ the registry is shared, and an experiment that moved ``champion`` made the works
 from __future__ import annotations
 
 import itertools
+import json
 import os
 import re
 import subprocess
@@ -138,9 +139,9 @@ def run(
     say: Callable[[str], None],
     wait: bool = True,
 ) -> str:
-    """Queue ``experiments``, start ``jobs`` workers and, with ``wait``, return the
-    ``dvc exp show`` table (Markdown: no column is cut to the terminal's width) once they are
-    all done; a failed experiment is an error naming it."""
+    """Queue ``experiments``, start ``jobs`` workers and, with ``wait``, return their key
+    columns (:func:`key_columns`) once they are all done; a failed experiment is an error
+    naming it."""
     names = [e.name for e in experiments]
     for experiment in experiments:
         dvc(*experiment.queue_args())
@@ -153,4 +154,55 @@ def run(
         time.sleep(poll)
     if bad := failed(dvc("queue", "status"), names):
         raise FtfofError("sweep", f"failed: {', '.join(bad)} (see `dvc queue logs NAME`)")
-    return dvc("exp", "show", "--md", "--no-pager")
+    return key_columns(json.loads(dvc("exp", "show", "--json")), names)
+
+
+# the columns a sweep is read by: what ran, and the optimum's figures against the reference
+KEY_PARAMS = (("robot",), ("surface",), ("base", "seed"))
+KEY_METRICS = {  # metrics.json's name -> the column's
+    "peak_pull": "pull [N]",
+    "jitter": "detachment jitter [m/s²]",
+    "landing_pre_pressure": "landing [N]",
+    "min_bend_radius": "film radius [m]",
+}
+
+
+def key_columns(shown: list[dict], names: Sequence[str]) -> str:
+    """A Markdown table of the experiments ``names`` from `dvc exp show --json` output: robot,
+    surface, seed, the reference, and the optimum's pull, detachment jitter, landing press and
+    film radius with their change against the reference (the full table has hundreds of
+    columns: `dvc exp show`)."""
+    found: dict[str, dict] = {}
+
+    def walk(node: object) -> None:
+        if isinstance(node, dict):
+            if node.get("name") in names and isinstance(node.get("data"), dict):
+                found[node["name"]] = node["data"]
+            for value in node.values():
+                walk(value)
+        elif isinstance(node, list):
+            for value in node:
+                walk(value)
+
+    walk(shown)
+    header = ["experiment", "robot", "surface", "seed", "reference"]
+    header += list(KEY_METRICS.values())
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    for name in names:
+        data = found.get(name, {})
+        params = data.get("params", {}).get("params.yaml", {}).get("data", {})
+        metrics = data.get("metrics", {}).get("reports/metrics.json", {}).get("data", {})
+        optimum = metrics.get("table", {}).get("optimum", {})
+        cells = [name]
+        for path in KEY_PARAMS:
+            value: object = params
+            for key in path:
+                value = value.get(key, "?") if isinstance(value, dict) else "?"
+            cells.append(str(value))
+        cells.append(str(metrics.get("reference", "?")))
+        for metric in KEY_METRICS:
+            value, change = optimum.get(metric), optimum.get(f"{metric}_change")
+            cells.append("?" if value is None else f"{value:g} ({change:+.1f} %)")
+        lines.append("| " + " | ".join(cells) + " |")
+    note = "The optimum's figures, each with its change against the reference.\n\n"
+    return note + "\n".join(lines) + "\n"

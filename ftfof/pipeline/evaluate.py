@@ -4,6 +4,7 @@ write the report, and track it in MLflow linked to the optimize run."""
 from __future__ import annotations
 
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -28,6 +29,7 @@ from ftfof.pipeline.console import console
 from ftfof.pipeline.jobs import FINAL, Acquisition
 from ftfof.report.context import STAGE_FIGURES
 from ftfof.robot import RobotContext
+from ftfof.trajectory.piecewise import Sampled
 
 
 @dataclass(frozen=True)
@@ -56,7 +58,8 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
     pictures = {key: read_figure(paths.figures / key) for key, _ in STAGE_FIGURES}
     rounds = read_refine(paths.refine)
     front_rows = front_sample(inputs, params.evaluate.front_points)
-    job = _job(params, ctx, paths.out, inputs, front_rows)
+    baselines = baseline_trajectories(params, ctx)  # simulated, and judged by the robot's rules
+    job = _job(params, ctx, paths.out, inputs, front_rows, baselines)
     cfg = params.acquire
     todo = job.remaining()
     console.print(
@@ -74,7 +77,7 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
     bezier = {"optimum": decision(inputs, inputs.optimum["front_row"])}
     if ctx.robot.published_optimum is not None:
         bezier[table_name(PAPER_OPTIMUM)] = np.asarray(ctx.robot.published_optimum)
-    breaks = admitted(ctx, baseline_trajectories(params, ctx), bezier)
+    breaks = admitted(ctx, baselines, bezier)
     result = evaluate(
         params.evaluate,
         params.acquire.solver,
@@ -101,7 +104,12 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
 
 
 def _job(
-    params: Params, ctx: RobotContext, out: Path, inputs: Inputs, front_rows: list[int]
+    params: Params,
+    ctx: RobotContext,
+    out: Path,
+    inputs: Inputs,
+    front_rows: list[int],
+    baselines: Mapping[str, Sampled],
 ) -> Acquisition:
     """The evaluation's simulations (:func:`ftfof.evaluate.specs.evaluation_specs`), resumable
     under ``out``."""
@@ -111,7 +119,7 @@ def _job(
         on,
         inputs,
         front_rows,
-        baseline_specs(on, baseline_trajectories(params, ctx)),
+        baseline_specs(on, baselines),
         ctx.robot.published_optimum,
         cfg.check_step,
         cfg.check_nodes,

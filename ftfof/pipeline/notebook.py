@@ -112,11 +112,13 @@ def open_run(root: str | Path = ".") -> Run:
     optimize = root / catalog.path("polish_optimize")
     metrics = root / catalog.path("metrics")
     simulations = root / catalog.path("evaluate") / "samples.parquet"
-    for path, usual in ((optimize / OPTIMUM_FILE, "polish"), (metrics, "evaluate")):
+    for path, usual in (
+        (optimize / OPTIMUM_FILE, "polish"),
+        (metrics, "evaluate"),
+        (simulations, "evaluate"),
+    ):
         if not path.exists():
             raise DataError(str(path), f"missing ({run_first(path.parent, usual)})")
-    if not simulations.exists():
-        raise DataError(str(simulations), f"missing ({run_first(simulations.parent, 'evaluate')})")
     try:
         optimum = json.loads((optimize / OPTIMUM_FILE).read_text())
         front = pq.read_table(optimize / FRONT_FILE).to_pandas().set_index("row")

@@ -26,6 +26,7 @@ Stream = Literal[
     "refine",  # the feasible draws that fill a refinement round's warm-started population
     "verify",  # the perturbed copies of a simulator-checked candidate, one child per row
     "polish",  # NSGA-II on the simulator and the copies that fill its first population
+    "climb",  # the climbing robot's IMU noise
 ]
 STREAMS: tuple[Stream, ...] = get_args(Stream)
 

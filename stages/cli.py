@@ -10,6 +10,7 @@ import typer
 from stages import (
     acquire,
     calibrate,
+    climb,
     dataset,
     evaluate,
     export,
@@ -71,6 +72,7 @@ app.command("evaluate")(evaluate.command)
 app.command("profile")(profile.command)
 app.command("simulate")(simulate.command)
 app.command("export")(export.command)
+app.command("climb")(climb.command)
 app.command("calibrate")(calibrate.command)
 app.command("sweep")(sweep.command)
 

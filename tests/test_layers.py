@@ -25,6 +25,7 @@ RANKS = {
     "ftfof.data": 5,
     "ftfof.robot": 5,
     "ftfof.files": 6,
+    "ftfof.climb": 6,
     "ftfof.surrogate": 7,
     "ftfof.optimize": 8,
     "ftfof.evaluate": 9,

@@ -23,11 +23,13 @@ from ftfof.config.params import (
 )
 from ftfof.config.robot import (
     GRAVITY,
+    LEG_NAMES,
     LEG_TYPES,
     SHEAR_SAFETY_FACTOR,
     STANCE_FEET,
     XZ,
     BodyMechanics,
+    Climber,
     FilmMechanics,
     Foot,
     FootMechanics,
@@ -51,6 +53,7 @@ from ftfof.config.stages import (
     Acquire,
     Base,
     Baselines,
+    Climb,
     Dataset,
     EpsBezier,
     Evaluate,
@@ -72,6 +75,7 @@ from ftfof.config.stages import (
 
 __all__ = [
     "GRAVITY",
+    "LEG_NAMES",
     "LEG_TYPES",
     "SHEAR_SAFETY_FACTOR",
     "STANCE_FEET",
@@ -81,6 +85,8 @@ __all__ = [
     "Baseline",
     "Baselines",
     "BodyMechanics",
+    "Climb",
+    "Climber",
     "Dataset",
     "Design",
     "EpsBezier",

@@ -12,6 +12,7 @@ from ftfof.config.stages import (
     Acquire,
     Base,
     Baselines,
+    Climb,
     Dataset,
     Evaluate,
     Feasibility,
@@ -45,6 +46,7 @@ class Params(Strict):
     refine: Refine = Refine()
     polish: Polish = Polish()
     evaluate: Evaluate = Evaluate()
+    climb: Climb = Climb()
 
     @model_validator(mode="after")
     def _selected_presets_exist(self) -> Params:

@@ -208,6 +208,32 @@ class PlatformMechanics(Strict):
     link_mass: PositiveFloat  # joint-level leg: mass of each link, kg
 
 
+LEG_NAMES = ("FL", "FR", "HL", "HR")  # the climbing robot's legs: fore/hind, left/right
+
+
+def _a_gait(order: tuple[int, int, int, int]) -> tuple[int, int, int, int]:
+    if sorted(order) != [0, 1, 2, 3]:
+        raise ValueError(f"must name each leg 0-3 ({', '.join(LEG_NAMES)}) once")
+    return order
+
+
+class Climber(Strict):
+    """The whole robot on the wall (ftfof/climb): its trunk, where the four hips sit on it, what
+    its servos can give, and the order its legs swing in. Each leg is ``leg`` with the platform's
+    foot, film and joint gains; the numbers here are estimates, with ``source`` saying whose."""
+
+    trunk_mass: PositiveFloat  # kg, without legs and feet (those: platform.link_mass, foot.mass)
+    trunk_inertia: PositiveFloat  # kg m^2, about the lateral axis (pitch)
+    hip_spacing: PositiveFloat  # m, fore hips to hind hips; the centre of mass midway
+    torque_limits: tuple[PositiveFloat, PositiveFloat, PositiveFloat]  # N m per leg joint
+    # the mount between the leg's last link and the foot (MST-Q's pressing support rack), N/m;
+    # None: rigid (the joints' servo gains are the leg's compliance)
+    foot_mount_stiffness: XZ | None = None
+    # crawl order, one leg at a time, as indices into LEG_NAMES
+    gait: Annotated[tuple[int, int, int, int], AfterValidator(_a_gait)] = (2, 0, 3, 1)
+    source: Annotated[str, Field(min_length=10)]  # where the estimates come from
+
+
 class Robot(Strict):
     """Everything that describes one robot's leg and foot for the pipeline."""
 
@@ -240,6 +266,8 @@ class Robot(Strict):
     # The common trajectory evaluate's Table I compares against for this robot (one it can run);
     # None: evaluate.reference where the robot can run it, else the best baseline it can run.
     reference: Baseline | None = None
+    # the whole robot on the wall, for `ftfof climb` and evaluate's climbs; None: it cannot climb
+    climber: Climber | None = None
 
     @model_validator(mode="after")
     def _film_survives_its_fc(self) -> Robot:

@@ -189,6 +189,21 @@ class Evaluate(Strict):
     check_nodes: Annotated[int, Field(ge=4)] | None = 80
 
 
+class Climb(Strict):
+    """The climbing robot's run (ftfof/climb; docs/climb.md): a crawl up a vertical wall."""
+
+    steps: PositiveInt = 8  # one swing each: 8 = two gait cycles
+    shift_time: PositiveFloat = 0.5  # s, the body's advance between two swings (all feet hold)
+    fall_distance: PositiveFloat = 0.02  # m, the body this far off its plan has fallen
+    imu_rate_hz: PositiveFloat = 1000.0
+    # the IMU: white noise (standard deviation) and a constant bias, per axis
+    imu_acc_noise: NonNegativeFloat = 0.0  # m/s^2
+    imu_acc_bias: float = 0.0  # m/s^2
+    imu_gyro_noise: NonNegativeFloat = 0.0  # rad/s
+    imu_gyro_bias: float = 0.0  # rad/s
+    time_budget: PositiveFloat = 300.0  # wall seconds per climb before it is stopped as failed
+
+
 class LogColumns(Strict):
     time: str = "t"
     x: str = "x"

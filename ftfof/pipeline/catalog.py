@@ -64,6 +64,7 @@ ARTEFACTS: dict[str, Artefact] = {
     "calibration": _a("reports/calibration.json", "json", "calibrate"),
     "simulate": _a("reports/simulate", "simulation_plots", "simulate"),
     "exports": _a("reports/export", "controller_trajectory", "export"),
+    "climbs": _a("reports/climb", "climb", "climb"),
 }
 
 # format -> (its writer, its reader), as ``module:function``. The reader is None where no command
@@ -85,6 +86,7 @@ FORMATS: dict[str, tuple[str, str | None]] = {
     "html": ("ftfof.files:atomic_path", None),
     "simulation_plots": ("ftfof.files:save_figure", None),
     "controller_trajectory": ("ftfof.evaluate.export:render", None),
+    "climb": ("ftfof.pipeline.climb:write_climb", None),
 }
 
 # command -> (the artefacts it reads, the artefacts it writes)

@@ -61,7 +61,7 @@ def export(
     refused, naming the rule."""
     ctx = context_of(params)
     leg = build_leg(ctx.robot.leg)
-    name, trajectory, X, extra = _trajectory(params, ctx, source, optimize)
+    name, trajectory, X, extra = trajectory_of(params, ctx, source, optimize)
     if X is not None:
         failed = ctx.policy.at_rate(rate_hz).check(X).failed(0)
         if failed:
@@ -97,7 +97,7 @@ def export(
     return Exported(name, render(out, metadata, fmt), int(out.table.shape[0]))
 
 
-def _trajectory(
+def trajectory_of(
     params: Params, ctx: RobotContext, source: Source, optimize: Path
 ) -> tuple[str, Sampled, np.ndarray | None, dict[str, Any]]:
     """(name, trajectory, decision row or None for an analytic baseline, metadata of where it

@@ -42,6 +42,7 @@ from ftfof.config import GRAVITY
 from ftfof.sim import film as film_shape
 from ftfof.sim.bonds import BondLaw
 from ftfof.sim.pad import add_bonds, add_film
+from ftfof.sim.padstate import PadParts
 from ftfof.sim.spec import SampleSpec
 
 esym = exu.symbolic
@@ -72,6 +73,17 @@ class Platform:
     series_stiffness: float  # estimate of the press path stiffness, N/m
     keep: list[Any] = field(default_factory=list)  # symbolic functions must outlive the solve
     leg_update: Callable[[float], None] | None = None  # per-step joint targets (joint-level leg)
+
+    def pad_parts(self) -> PadParts:
+        return PadParts(
+            self.film_nodes,
+            self.film_elements,
+            self.bend_stop,
+            self.bonds,
+            self.plate_node,
+            self.x_ref,
+            self.area,
+        )
 
     @property
     def initial_pressure(self) -> float:

@@ -44,11 +44,18 @@ def add_film(
     foot_body: Any,
     ankle_height: float,
     grip: float,
+    origin: float = 0.0,
+    gravity: tuple[float, float] = (0.0, -GRAVITY),
 ) -> tuple[list[Any], list[Any], Any]:
-    """The film's nodes at ``x_ref``, its elements under gravity, clamped over ``grip`` to the
-    foot's sole; returns (nodes, elements, curvature-stop law)."""
+    """The film's nodes at ``origin + x_ref`` on the wall (the foot's reference x is ``origin``),
+    its elements under ``gravity``, clamped over ``grip`` to the foot's sole; returns (nodes,
+    elements, curvature-stop law). The platform's plate lies under gravity (-z); a wall has it
+    along the film (-x)."""
     n = len(x_ref) - 1
-    nodes = [mbs.AddNode(NodePoint2DSlope1(referenceCoordinates=[x, 0.0, 1.0, 0.0])) for x in x_ref]
+    nodes = [
+        mbs.AddNode(NodePoint2DSlope1(referenceCoordinates=[origin + x, 0.0, 1.0, 0.0]))
+        for x in x_ref
+    ]
     elements = [
         mbs.AddObject(
             ObjectANCFCable2D(
@@ -71,7 +78,7 @@ def add_film(
         mbs.AddLoad(
             LoadMassProportional(
                 markerNumber=mbs.AddMarker(MarkerBodyMass(bodyNumber=e)),
-                loadVector=[0.0, -GRAVITY, 0.0],
+                loadVector=[*gravity, 0.0],
             )
         )
     for x in film_shape.clamp_pins(x_ref, grip):

@@ -1,0 +1,5 @@
+"""The climbing robot: the whole quadruped on a vertical wall in Exudyn (docs/climb.md).
+
+Library layer: the sagittal leg chains, the crawl gait, the Exudyn model with four pads of
+:mod:`ftfof.sim`'s film and bond law, its solver loop, the IMU and the per-step metrics.
+"""

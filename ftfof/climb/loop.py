@@ -1,0 +1,269 @@
+"""The climbing robot's solver loop: what changes between two steps (docs/climb.md).
+
+Before each step it updates the four pads (:class:`ftfof.sim.padstate.PadTracker`); presses the
+landed foot to the pre-pressure a through its landing hold (the platform's integral loop on the
+wall patch's normal force) and releases that press over the body's advance that follows; sets
+the joint targets from the gait through each leg's inverse kinematics against the body's plan;
+records the channels at the record rate; and stops the run cleanly when the robot falls: a
+stance pad fully let go, or the body ``climb.fall_distance`` off its plan.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import exudyn as exu
+import numpy as np
+from numpy.typing import NDArray
+
+from ftfof.climb.gait import LEGS, min_jerk
+from ftfof.climb.model import BASE, JOINTS, Climber
+from ftfof.sim import film
+from ftfof.sim.padstate import PadTracker
+from ftfof.sim.prestep import PRESS_TIME_CONSTANT
+
+Array = NDArray[np.float64]
+CHANNELS = (
+    ("t", 1),
+    ("body", 3),  # x, z, pitch
+    ("body_rate", 3),
+    ("body_acc", 3),
+    ("body_plan", 1),
+    ("foot", 2 * LEGS),  # x, z per leg
+    ("force", 2 * LEGS),  # Fx, Fz of each pad on the wall (tension positive)
+    ("bonds", LEGS),
+    ("lowest", LEGS),  # the film's lowest point above its wall patch
+    ("curvature", LEGS),  # free-span curvature of each swinging pad's film (0 in stance)
+    ("torque", JOINTS * LEGS),
+    ("swing", 1),  # the swinging leg, -1 while all hold
+)
+
+
+@dataclass
+class Fall:
+    time: float
+    why: str
+
+
+class ClimbLoop:
+    """Per-climb state shared by the pre-step function."""
+
+    def __init__(self, robot: Climber, solver: exu.MainSolverImplicitSecondOrder, rate: float):
+        spec = robot.spec
+        self.r, self.solver = robot, solver
+        self.mbs = robot.mbs
+        self.data = robot.mbs.systemData
+        stop = spec.robot.platform.film.stop_radius
+        self.pads = [
+            PadTracker(robot.mbs, parts, robot.law, robot.initial_pressure, stop)
+            for parts in robot.pads
+        ]
+        self.tree = int(robot.mbs.GetNodeODE2Index(robot.tree_node))
+        self.feet = np.array([robot.mbs.GetNodeODE2Index(f) for f in robot.feet], np.int64)
+        self.patches = np.array([p.plate_index for p in self.pads], np.int64)
+        ref = np.array([robot.mbs.GetNodeOutput(f, exu.OutputVariableType.Position,
+                                                exu.ConfigurationType.Reference)[:2]
+                        for f in robot.feet])  # fmt: skip
+        self.foot_ref = ref
+        self.node_index = [p.node_index for p in self.pads]
+        self.press_depth = np.zeros(LEGS)
+        self.series_stiffness = _series_stiffness(robot)
+        kp, kd = spec.robot.platform.joint_gains
+        self.kp, self.kd = kp, kd
+        self.offsets = robot.q0.copy()
+        self.rates = np.zeros_like(self.offsets)
+        self.sensor = spec.platform.sensor
+        self.every = 1.0 / rate
+        self.next_record = 0.0
+        n = math.ceil(robot.gait.end * rate) + 8
+        self.width = sum(w for _, w in CHANNELS)
+        self.rows = np.full((n, self.width), np.nan)
+        self.count = 0
+        self.fall: Fall | None = None
+        self.fall_distance = spec.climb.fall_distance
+        self.deadline = time.perf_counter() + spec.climb.time_budget
+        self.stopped = ""
+        self.steps = 0
+        self.held = np.ones(LEGS, dtype=bool)
+
+    def __call__(self, mbs, t: float) -> bool:
+        q = self.data.GetODE2Coordinates(copy=False)
+        qd = self.data.GetODE2Coordinates_t(copy=False)
+        h = self.solver.it.currentStepSize
+        gait = self.r.gait
+        swing = int(gait.leg_of(int(gait.step_at(np.array([t]))[0]))) if t >= gait.start else -1
+        held = np.zeros(LEGS, dtype=bool)
+        for leg, pad in enumerate(self.pads):
+            step = pad.update(q, qd, h, t)
+            held[leg] = step.bonded > 0
+        self.held = held
+        if swing >= 0:
+            self._press(swing, t, q, qd)
+        self._targets(t)
+        self.steps += 1
+        if self.steps % 64 == 0:
+            if not np.isfinite(q).all():
+                self.stopped = f"non-finite state at t = {t:.4f} s"
+                return False
+            if time.perf_counter() > self.deadline:
+                budget = self.r.spec.climb.time_budget
+                self.stopped = f"time budget of {budget} s exceeded at t = {t:.4f} s"
+                return False
+        return True
+
+    def after_step(self, mbs, t: float) -> bool:
+        """The post-step function: record the solved state at ``t``, stop on a fall."""
+        if t < self.next_record - 1e-9:
+            return True
+        q = self.data.GetODE2Coordinates(copy=False)
+        qd = self.data.GetODE2Coordinates_t(copy=False)
+        gait = self.r.gait
+        swing = int(gait.leg_of(int(gait.step_at(np.array([t]))[0]))) if t >= gait.start else -1
+        self._record(t, q, qd, swing)
+        self.next_record += self.every
+        return not self._fell(t, q, self.held, swing)
+
+    def _press(self, leg: int, t: float, q: Array, qd: Array) -> None:
+        """In the landing hold, an integral loop on the leg's wall patch: it reads a.
+
+        The robot starts with every pad bonded at the pre-pressure; on a vertical wall no
+        normal force but the feet's own acts, so a foot presses only against the others' pull:
+        one at a time, on landing."""
+        gait = self.r.gait
+        tau = t - gait.lift_off(int(gait.step_at(np.array([t]))[0]))
+        if tau < gait.swing:
+            return
+        sensor = self.sensor
+        z = self.patches[leg] + 1
+        compression = -(sensor.stiffness * q[z] + sensor.damping * qd[z])
+        error = self.r.spec.robot.pre_pressure - compression
+        h = self.solver.it.currentStepSize
+        self.press_depth[leg] += error / self.series_stiffness * min(h / PRESS_TIME_CONSTANT, 1.0)
+
+    def _applied_press(self, t: float) -> Array:
+        """Each leg's press into the wall now: the landing leg's loop depth through its swing
+        and hold, released over the advance that follows (a press held through the stance would
+        make the stance feet push against each other: on a wall nothing else takes it)."""
+        gait = self.r.gait
+        out = np.zeros(LEGS)
+        step = int(gait.step_at(np.array([t]))[0])
+        if step < 0:
+            return out
+        leg = gait.leg_of(step)
+        tau = t - gait.lift_off(step)
+        release = (tau - gait.swing - gait.hold) / gait.shift
+        out[leg] = self.press_depth[leg] * (1.0 - float(min_jerk(np.array(release))[0]))
+        return out
+
+    def _targets(self, t: float) -> None:
+        """Joint targets: each foot's gait target, relative to the hip on the body's plan."""
+        gait, chain = self.r.gait, self.r.chain
+        feet, feet_v = gait.feet(t)
+        body, body_v = gait.body(np.array([t]))
+        feet[:, 1] -= self._applied_press(t)
+        rel = feet.copy()  # in each leg's trajectory frame: x from its hip's P0, z off the wall
+        rel[:, 0] += chain.hip[0] - body[0] - gait.hips
+        rel_v = feet_v - np.array([body_v[0], 0.0])
+        theta = chain.leg.inverse(rel)
+        if not np.all(np.isfinite(theta)):
+            return  # out of reach: keep the last targets (the run's checks refuse such paths)
+        J = chain.leg.jacobian(theta)[..., :2]
+        free = np.linalg.solve(J, rel_v[..., None])[..., 0]
+        rates = np.stack([free[:, 0], free[:, 1], -free[:, 0] - free[:, 1]], axis=1)
+        self.offsets[BASE:] = theta.ravel()
+        self.rates[BASE:] = rates.ravel()
+        setp = self.mbs.SetObjectParameter
+        setp(self.r.tree, "jointPositionOffsetVector", self.offsets.tolist())
+        setp(self.r.tree, "jointVelocityOffsetVector", self.rates.tolist())
+
+    def _record(self, t: float, q: Array, qd: Array, swing: int) -> None:
+        if self.count >= len(self.rows):
+            return
+        qdd = self.data.GetODE2Coordinates_tt(copy=False)
+        b = self.tree
+        joints = slice(b + BASE, b + BASE + JOINTS * LEGS)
+        torque = self.kp * (self.offsets[BASE:] - q[joints]) + self.kd * (
+            self.rates[BASE:] - qd[joints]
+        )
+        sensor, mass = self.sensor, self.sensor.plate_mass
+        px, pz = self.patches, self.patches + 1
+        fx = sensor.stiffness * q[px] + sensor.damping * qd[px] + mass * qdd[px]
+        fz = sensor.stiffness * q[pz] + sensor.damping * qd[pz] + mass * qdd[pz]
+        foot = self.foot_ref + np.stack([q[self.feet], q[self.feet + 1]], axis=1)
+        bonds = np.array([np.count_nonzero(~p.state.broken) for p in self.pads], float)
+        lowest = np.array(
+            [float(np.min(q[idx + 1] - q[pz[i]])) for i, idx in enumerate(self.node_index)]
+        )
+        curvature = np.zeros(LEGS)
+        if swing >= 0:
+            curvature[swing] = self._curvature(q, swing)
+        plan, _ = self.r.gait.body(np.array([t]))
+        self.rows[self.count] = np.concatenate(
+            [
+                [t],
+                q[b : b + BASE],
+                qd[b : b + BASE],
+                qdd[b : b + BASE],
+                plan,
+                foot.ravel(),
+                np.stack([fx, fz], axis=1).ravel(),
+                bonds,
+                lowest,
+                curvature,
+                torque,
+                [swing],
+            ]
+        )
+        self.count += 1
+
+    def _curvature(self, q: Array, leg: int) -> float:
+        """The free-span curvature of ``leg``'s film now (:mod:`ftfof.sim.film`)."""
+        idx = self.node_index[leg]
+        coords = q[idx[:, None] + np.arange(4)][None]
+        coords = coords - np.array([0.0, q[self.patches[leg] + 1], 0.0, 0.0])
+        bonded = ~self.pads[leg].state.broken[None]
+        parts = self.r.pads[leg]
+        return float(film.free_span_curvature(coords, parts.x_ref, self.r.clamp_edge, bonded)[0])
+
+    def _fell(self, t: float, q: Array, held: Array, swing: int) -> bool:
+        """A stance pad let go, or the body left its plan: the robot has fallen."""
+        stance = np.ones(LEGS, dtype=bool)
+        if swing >= 0:
+            stance[swing] = False
+        if t > self.r.gait.start and not held[stance].all():
+            leg = int(np.flatnonzero(stance & ~held)[0])
+            self.fall = Fall(t, f"stance pad {leg} let go at t = {t:.3f} s")
+        plan, _ = self.r.gait.body(np.array([t]))
+        b = self.tree
+        off = math.hypot(q[b] - plan[0], q[b + 1])
+        if self.fall is None and off > self.fall_distance:
+            self.fall = Fall(t, f"the body left its plan by {1e3 * off:.1f} mm at t = {t:.3f} s")
+        return self.fall is not None
+
+
+def _series_stiffness(robot: Climber) -> float:
+    """Estimate of a leg's press path stiffness: joints at the foot, mount, sensor, contact."""
+    spec = robot.spec
+    mech = spec.robot.platform
+    l1, l2 = robot.chain.links
+    grip = mech.foot.grip_length * mech.film.width
+    parts = [
+        mech.joint_gains[0] / max(l1, l2) ** 2,
+        spec.platform.sensor.stiffness,
+        robot.law.contact_stiffness * grip,
+    ]
+    mount = spec.robot.climber.foot_mount_stiffness if spec.robot.climber else None
+    if mount is not None:
+        parts.append(mount.z)
+    return 1.0 / sum(1.0 / k for k in parts)
+
+
+def channel_slices() -> dict[str, slice]:
+    """Where each channel sits in a record row."""
+    out, at = {}, 0
+    for name, width in CHANNELS:
+        out[name] = slice(at, at + width)
+        at += width
+    return out

@@ -1,0 +1,141 @@
+"""What a climb did to the robot, step by step (docs/climb.md).
+
+Per step, in the swing's own time (0 at lift-off), the swinging foot's channels are put in the
+platform's shape, so the platform's definitions apply unchanged (:mod:`ftfof.data.targets`):
+
+- ``jitter``: the IMU's peak acceleration from lift-off (first bond break) to complete
+  detachment + 50 ms: the platform's ``fsj`` window, FTFOF Table I's body jitter;
+- ``jitter_step``: the IMU's peak over the whole step (swing, landing hold, advance);
+- ``peak_pull``: the swinging foot's peak pull on the wall while its pad holds;
+- ``slip``: how far each stance foot moved along the wall over the step, the largest;
+- ``min_bend_radius``: the swinging film's tightest free-span bend;
+- ``pitch_range``: the trunk's pitch, max - min;
+- ``release``: the platform's release verdict (:func:`ftfof.data.release.release_fault`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ftfof.climb.gait import LEGS, Gait
+from ftfof.data.release import release_fault
+from ftfof.data.targets import full_rate
+
+Array = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class StepMetrics:
+    step: int
+    leg: int
+    jitter: float  # m/s^2
+    jitter_step: float  # m/s^2
+    peak_pull: float  # N
+    landing_press: float  # N, the landed pad's peak press on the wall
+    slip: float  # m
+    min_bend_radius: float  # m (inf: the film never bent in a free span)
+    pitch_range: float  # rad
+    release: str  # "" for a clean release, else what went wrong
+    complete: bool  # the step ran to its end (no fall, no stop before it)
+
+
+def step_channels(c: dict[str, Array], gait: Gait, step: int, switch_height: float) -> dict:
+    """The swinging foot's channels of ``step`` in the platform's names, time from lift-off."""
+    leg = gait.leg_of(step)
+    t0 = gait.lift_off(step)
+    inside = (c["t"] >= t0) & (c["t"] < t0 + gait.period)
+    t = c["t"][inside] - t0
+    bonds = c["bonds"][inside, leg]
+    lowest = c["lowest"][inside, leg]
+    off = (bonds == 0) & (lowest > switch_height) & (t >= 0)
+    switched = np.cumsum(off) > 0
+    return {
+        "t": t,
+        "Fx_pad": c["force"][inside, 2 * leg],
+        "Fz_pad": c["force"][inside, 2 * leg + 1],
+        "bonds": bonds,
+        "switch": switched.astype(float),
+        "film_curvature": c["curvature"][inside, leg],
+        "film_clearance": np.where(bonds > 0, 0.0, np.maximum(lowest, 0.0)),
+    }
+
+
+def step_metrics(
+    c: dict[str, Array],
+    imu: dict[str, Array],
+    gait: Gait,
+    step: int,
+    switch_height: float,
+    clearance: float,
+    landing_start: float,
+) -> StepMetrics:
+    """One step's figures from the climb's channels and its IMU (``clearance``: the robot's
+    swing clearance; ``landing_start``: T2, where the trajectory's landing segment starts)."""
+    leg = gait.leg_of(step)
+    t0 = gait.lift_off(step)
+    ch = step_channels(c, gait, step, switch_height)
+    t = ch["t"]
+    complete = bool(t.size and t[-1] >= gait.period - 2.0 / max(len(c["t"]) / c["t"][-1], 1.0))
+    on_imu = (imu["t"] >= t0) & (imu["t"] < t0 + gait.period)
+    acc = np.interp(t + t0, imu["t"], imu["acc"]) if imu["t"].size else np.zeros_like(t)
+    T3 = gait.swing
+    targets = full_rate({**ch, "body_acc": acc}, T3)
+    stance = [k for k in range(LEGS) if k != leg]
+    inside = (c["t"] >= t0) & (c["t"] < t0 + gait.period)
+    foot_x = c["foot"][inside][:, [2 * k for k in stance]]
+    slip = float(np.max(np.abs(foot_x - foot_x[:1]), initial=0.0)) if foot_x.size else 0.0
+    pitch = c["body"][inside, 2]
+    switched = np.flatnonzero(ch["switch"] > 0)
+    switch_time = float(t[switched[0]]) if switched.size else math.inf
+    landing = (t >= T3) if np.isfinite(switch_time) else np.zeros_like(t, dtype=bool)
+    kappa = float(np.max(ch["film_curvature"], initial=0.0))
+    return StepMetrics(
+        step=step,
+        leg=leg,
+        jitter=float(np.max(targets["body_acc"], initial=0.0)),
+        jitter_step=float(np.max(imu["acc"][on_imu], initial=0.0)),
+        peak_pull=float(np.max(targets["pull"], initial=0.0)),
+        landing_press=float(np.max(-ch["Fz_pad"][landing], initial=0.0)),
+        slip=slip,
+        min_bend_radius=1.0 / kappa if kappa > 0 else math.inf,
+        pitch_range=float(np.ptp(pitch)) if pitch.size else 0.0,
+        release=release_fault(
+            t,
+            ch["bonds"],
+            switch_time,
+            float(np.max(ch["film_clearance"], initial=0.0)),
+            clearance,
+            landing_start,
+        ),
+        complete=complete,
+    )
+
+
+def summary(steps: list[StepMetrics], fell: bool) -> dict[str, float | bool]:
+    """The climb's figures: the worst step of each, over the steps that ran to their end."""
+    done = [s for s in steps if s.complete]
+
+    def worst(name: str, best: bool = False) -> float:
+        values = [getattr(s, name) for s in done]
+        if not values:
+            return math.nan
+        return float(min(values) if best else max(values))
+
+    return {
+        "jitter": worst("jitter"),
+        "jitter_step": worst("jitter_step"),
+        "peak_pull": worst("peak_pull"),
+        "slip": worst("slip"),
+        "min_bend_radius": worst("min_bend_radius", best=True),
+        "pitch_range": worst("pitch_range"),
+        "steps_done": float(len(done)),
+        "fell": fell,
+    }
+
+
+def as_rows(steps: list[StepMetrics]) -> list[dict]:
+    return [asdict(s) for s in steps]

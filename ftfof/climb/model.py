@@ -1,0 +1,296 @@
+"""The climbing robot on a vertical wall as one Exudyn system (docs/climb.md).
+
+Planar, sagittal: Exudyn x is up the wall, Exudyn y is our z (out of the wall), gravity along -x.
+Items:
+
+- one KinematicTree: the trunk on a floating base (x, z, pitch: three joints without control)
+  and four legs of three revolute joints each, servo-controlled by the tree's joint PD (the
+  platform's joint gains) toward targets the solver loop sets every step;
+- per leg: the foot, a rigid body on the ankle link through a spring-damper whose rotation is
+  the passive ankle (and whose x, z are the optional foot mount, MST-Q's support rack), and
+  :mod:`ftfof.sim.pad`'s film and bonds on a wall patch;
+- per wall patch: a point mass on two stiff springs, the platform's force sensor, so the pad's
+  force on the wall is read as on the platform (the wall itself is rigid behind it).
+
+Left out: everything outside the sagittal plane (a leg's abduction, roll and yaw of the trunk,
+left and right legs are two legs on one hip), the legs' cables, the servos' own dynamics beyond
+their PD gains.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import exudyn as exu
+import numpy as np
+from exudyn.itemInterface import (
+    CoordinateSpringDamper,
+    LoadMassProportional,
+    MarkerBodyMass,
+    MarkerKinematicTreeRigid,
+    MarkerNodeCoordinate,
+    MarkerNodePosition,
+    MarkerNodeRigid,
+    MassPoint2D,
+    NodeGenericODE2,
+    NodePoint2D,
+    NodePointGround,
+    NodeRigidBody2D,
+    ObjectConnectorRigidBodySpringDamper,
+    ObjectKinematicTree,
+    ObjectRigidBody2D,
+    SensorKinematicTree,
+)
+
+import ftfof.config as config
+from ftfof.climb.gait import LEGS, Gait
+from ftfof.climb.legs import SagittalChain
+from ftfof.sim.bonds import BondLaw
+from ftfof.sim.joint_leg import ATTACH_DAMPING, ATTACH_STIFFNESS, SERVO_LINK_MASS
+from ftfof.sim.pad import add_bonds, add_film
+from ftfof.sim.padstate import PadParts
+from ftfof.trajectory.piecewise import PiecewiseQuintic
+
+BASE = 3  # the trunk's floating coordinates in the tree: x, z, pitch
+TRUNK_LINK = 2
+JOINTS = 3  # per leg
+
+
+@dataclass(frozen=True)
+class ClimbSpec:
+    """What one climb needs, as a picklable value."""
+
+    name: str  # the trajectory's label
+    trajectory: PiecewiseQuintic  # the swing, P0 = (0, 0), over [0, T3]
+    robot: config.Robot
+    surface: config.Surface
+    platform: config.Platform  # the force sensor under each wall patch and the press protocol
+    solver: config.Solver
+    climb: config.Climb
+    seed: int  # the IMU's noise
+
+
+@dataclass
+class Climber:
+    """Handles into the built system that the solver loop and post-processing need."""
+
+    sc: Any
+    mbs: Any
+    spec: ClimbSpec
+    chain: SagittalChain
+    gait: Gait
+    law: BondLaw
+    tree: Any
+    tree_node: Any
+    pads: list[PadParts]
+    feet: list[Any]  # foot nodes
+    patch_springs: list[tuple[Any, Any]]  # (x, z) force-sensor springs of each wall patch
+    clamp_edge: int
+    imu_sensor: Any  # the trunk's acceleration from the solver (the IMU test's reference)
+    initial_pressure: float  # Pa over each pad
+    q0: np.ndarray  # the tree's initial coordinates
+    keep: list[Any] = field(default_factory=list)  # symbolic functions must outlive the solve
+
+    @property
+    def hips(self) -> np.ndarray:
+        return self.gait.hips
+
+
+def leg_masses(robot: config.Robot) -> tuple[float, float, float]:
+    """Thigh, shank and ankle flange of each leg, kg."""
+    m = robot.platform.link_mass
+    return m, m, SERVO_LINK_MASS
+
+
+def robot_mass(robot: config.Robot) -> float:
+    """The climbing robot's whole mass: trunk, four legs, four feet (films are grams)."""
+    assert robot.climber is not None
+    return robot.climber.trunk_mass + LEGS * (sum(leg_masses(robot)) + robot.platform.foot.mass)
+
+
+def build(spec: ClimbSpec, chain: SagittalChain, gait: Gait, law: BondLaw) -> Climber:
+    """Assemble the robot standing on the wall with every pad bonded (not yet solved)."""
+    from ftfof.sim.film import clamp_edge
+
+    robot = spec.robot
+    climber = robot.climber
+    assert climber is not None
+    mech = robot.platform
+    film, foot = mech.film, mech.foot
+    sensor = spec.platform.sensor
+    n = spec.solver.nodes
+    pad = robot.foot.pad_length
+    sc = exu.SystemContainer()
+    mbs = sc.AddSystem()
+    x_ref = np.linspace(0.0, pad, n + 1)
+    dx = pad / n
+    area = np.full(n + 1, film.width * dx)
+    area[[0, -1]] /= 2
+    gravity = (-config.GRAVITY, 0.0)
+    ground = mbs.AddNode(NodePointGround())
+    g0 = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=ground, coordinate=0))
+
+    feet_x = gait.initial_feet()
+    hip_z = float(chain.hip[1])
+    q0 = np.zeros(BASE + LEGS * JOINTS)
+    theta0 = chain.leg.inverse(np.stack([feet_x - gait.hips + chain.hip[0], np.zeros(LEGS)], 1))
+    if not np.all(np.isfinite(theta0)):
+        raise ValueError("a foot's start is outside its leg's reach")
+    q0[BASE:] = theta0.ravel()
+    tree, tree_node = _tree(mbs, spec, chain, gait, q0, hip_z)
+
+    pads, feet, springs = [], [], []
+    initial_pressure = robot.pre_pressure / float(area.sum())
+    grip = min(foot.grip_length, pad)
+    mount = climber.foot_mount_stiffness
+    keep = []
+    for leg in range(LEGS):
+        xf = float(feet_x[leg])
+        patch = mbs.AddNode(NodePoint2D(referenceCoordinates=[xf, 0.0]))
+        mbs.AddObject(MassPoint2D(nodeNumber=patch, mass=sensor.plate_mass))
+        spring = tuple(
+            mbs.AddObject(
+                CoordinateSpringDamper(
+                    markerNumbers=[
+                        g0,
+                        mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=patch, coordinate=i)),
+                    ],
+                    stiffness=sensor.stiffness,
+                    damping=sensor.damping,
+                )
+            )
+            for i in (0, 1)
+        )
+        foot_node = mbs.AddNode(NodeRigidBody2D(referenceCoordinates=[xf, foot.ankle_height, 0]))
+        foot_body = mbs.AddObject(
+            ObjectRigidBody2D(nodeNumber=foot_node, mass=foot.mass, inertia=foot.inertia)
+        )
+        mbs.AddLoad(
+            LoadMassProportional(
+                markerNumber=mbs.AddMarker(MarkerBodyMass(bodyNumber=foot_body)),
+                loadVector=[*gravity, 0.0],
+            )
+        )
+        nodes, elements, stop = add_film(
+            mbs, film, x_ref, dx, foot_body, foot.ankle_height, grip, origin=xf, gravity=gravity
+        )
+        kx = mount.x if mount else ATTACH_STIFFNESS
+        kz = mount.z if mount else ATTACH_STIFFNESS
+        mbs.AddObject(
+            ObjectConnectorRigidBodySpringDamper(
+                markerNumbers=[
+                    mbs.AddMarker(
+                        MarkerKinematicTreeRigid(
+                            objectNumber=tree,
+                            linkNumber=BASE + leg * JOINTS + 2,
+                            localPosition=[0.0, 0.0, 0.0],
+                        )
+                    ),
+                    mbs.AddMarker(MarkerNodeRigid(nodeNumber=foot_node)),
+                ],
+                stiffness=np.diag([kx, kz, ATTACH_STIFFNESS, 0, 0, foot.ankle_stiffness]).tolist(),
+                damping=np.diag([ATTACH_DAMPING] * 3 + [0.0, 0.0, foot.ankle_damping]).tolist(),
+            )
+        )
+        connectors, law_fn = add_bonds(
+            mbs,
+            law,
+            nodes,
+            x_ref,
+            area,
+            initial_pressure,
+            mbs.AddMarker(MarkerNodePosition(nodeNumber=patch)),
+        )
+        keep += [stop, law_fn]
+        pads.append(PadParts(nodes, elements, stop, connectors, patch, x_ref, area))
+        feet.append(foot_node)
+        springs.append(spring)
+    imu = mbs.AddSensor(
+        SensorKinematicTree(
+            objectNumber=tree,
+            linkNumber=TRUNK_LINK,
+            outputVariableType=exu.OutputVariableType.Acceleration,
+            storeInternal=True,
+            writeToFile=False,
+        )
+    )
+    mbs.Assemble()
+    return Climber(
+        sc=sc,
+        mbs=mbs,
+        spec=spec,
+        chain=chain,
+        gait=gait,
+        law=law,
+        tree=tree,
+        tree_node=tree_node,
+        pads=pads,
+        feet=feet,
+        patch_springs=springs,
+        clamp_edge=clamp_edge(x_ref, grip),
+        imu_sensor=imu,
+        initial_pressure=initial_pressure,
+        q0=q0,
+        keep=keep,
+    )
+
+
+def _tree(
+    mbs: Any, spec: ClimbSpec, chain: SagittalChain, gait: Gait, q0: np.ndarray, hip_z: float
+) -> tuple[Any, Any]:
+    """The trunk on its floating base and the four servo-driven legs, as one kinematic tree."""
+    robot = spec.robot
+    climber = robot.climber
+    assert climber is not None
+    mech = robot.platform
+    l1, l2 = chain.links
+    kp, kd = mech.joint_gains
+    n = len(q0)
+    node = mbs.AddNode(
+        NodeGenericODE2(
+            numberOfODE2Coordinates=n,
+            referenceCoordinates=[0.0] * n,
+            initialCoordinates=q0.tolist(),
+            initialCoordinates_t=[0.0] * n,
+        )
+    )
+    zero = [0.0, 0.0, 0.0]
+    types = [exu.JointType.PrismaticX, exu.JointType.PrismaticY, exu.JointType.RevoluteZ]
+    parents = [-1, 0, 1]
+    offsets = [zero, zero, zero]
+    coms = [zero, zero, zero]
+    masses = [1e-6, 1e-6, climber.trunk_mass]
+    inertias = [np.zeros((3, 3))] * 2 + [np.diag([0.0, 0.0, climber.trunk_inertia])]
+    link_masses = leg_masses(robot)
+    for leg in range(LEGS):
+        first = len(types)
+        types += [exu.JointType.RevoluteZ] * JOINTS
+        parents += [TRUNK_LINK, first, first + 1]
+        offsets += [[float(gait.hips[leg]), 0.0, 0.0], [l1, 0.0, 0.0], [l2, 0.0, 0.0]]
+        coms += [[l1 / 2, 0.0, 0.0], [l2 / 2, 0.0, 0.0], zero]
+        masses += list(link_masses)
+        inertias += [
+            np.diag([0.0, 0.0, link_masses[0] * l1**2 / 12]),
+            np.diag([0.0, 0.0, link_masses[1] * l2**2 / 12]),
+            np.diag([0.0, 0.0, 1e-7]),
+        ]
+    tree = mbs.AddObject(
+        ObjectKinematicTree(
+            nodeNumber=node,
+            gravity=[-config.GRAVITY, 0.0, 0.0],
+            baseOffset=[0.0, hip_z, 0.0],
+            jointTypes=types,
+            linkParents=parents,
+            jointTransformations=exu.Matrix3DList([np.eye(3)] * n),
+            jointOffsets=exu.Vector3DList(offsets),
+            linkInertiasCOM=exu.Matrix3DList(inertias),
+            linkCOMs=exu.Vector3DList(coms),
+            linkMasses=masses,
+            jointPControlVector=[0.0] * BASE + [kp] * (n - BASE),
+            jointDControlVector=[0.0] * BASE + [kd] * (n - BASE),
+            jointPositionOffsetVector=q0.tolist(),
+            jointVelocityOffsetVector=[0.0] * n,
+        )
+    )
+    return tree, node

@@ -1,0 +1,127 @@
+"""Simulate one climb: build the robot, run the crawl, return its channels (docs/climb.md).
+
+A fall ends the run cleanly with what was recorded so far (``fell`` and why); a solver error or
+a non-finite state makes the climb ``failed`` with the message, never an exception.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import exudyn as exu
+import numpy as np
+from numpy.typing import NDArray
+
+import ftfof.config as config
+from ftfof.climb.gait import Gait
+from ftfof.climb.legs import SagittalChain, sagittal_chain
+from ftfof.climb.loop import ClimbLoop, channel_slices
+from ftfof.climb.model import Climber, ClimbSpec, build
+from ftfof.sim.bonds import BondLaw
+
+Array = NDArray[np.float64]
+
+
+@dataclass
+class ClimbRun:
+    """The raw outcome of one climb: channels at the record rate and how the run ended."""
+
+    spec: ClimbSpec
+    gait: Gait
+    channels: dict[str, Array]
+    fell: bool
+    fall_reason: str
+    error: str  # "" unless the solver failed or the run was stopped
+    wall_time: float
+    steps: int  # solver steps
+    imu_reference: Array = field(repr=False)  # (T, 4) t, ax, az, angular acc. from the solver
+
+    @property
+    def ok(self) -> bool:
+        return not self.error
+
+
+def chain_of(robot: config.Robot) -> SagittalChain:
+    """The robot's leg as the climbing model's planar chain."""
+    if robot.climber is None:
+        raise ValueError("the robot has no climber block: it cannot climb")
+    return sagittal_chain(robot.leg, robot.climber.torque_limits, robot.platform.foot.ankle_height)
+
+
+def gait_of(spec: ClimbSpec) -> Gait:
+    """The crawl of ``spec``'s trajectory on its robot, with the platform's press protocol."""
+    climber = spec.robot.climber
+    chain = chain_of(spec.robot)
+    assert climber is not None
+    half = climber.hip_spacing / 2
+    proto = spec.platform.protocol
+    return Gait(
+        trajectory=spec.trajectory,
+        order=climber.gait,
+        steps=spec.climb.steps,
+        start=proto.settle + proto.press + proto.press_hold,
+        hold=proto.landing_hold,
+        shift=spec.climb.shift_time,
+        hips=np.array([half, half, -half, -half]),
+        foot_start=-chain.hip,
+    )
+
+
+def _settings(spec: ClimbSpec, end: float, rate: float) -> exu.SimulationSettings:
+    s = exu.SimulationSettings()
+    sol = spec.solver
+    ti = s.timeIntegration
+    ti.endTime = end
+    ti.numberOfSteps = math.ceil(end / sol.step)
+    ti.newton.relativeTolerance = sol.tolerance
+    ti.newton.absoluteTolerance = sol.tolerance
+    ti.generalizedAlpha.spectralRadius = sol.spectral_radius
+    ti.adaptiveStep = True
+    ti.verboseMode = 0
+    s.linearSolver.solverType = exu.LinearSolverType.EigenSparse
+    s.solution.file.write = False
+    s.solution.sensors.writePeriod = 1.0 / rate
+    s.show.computationTime = False
+    s.show.statistics = False
+    return s
+
+
+def climb(spec: ClimbSpec, duration: float | None = None) -> ClimbRun:
+    """Run one climb (``duration``: stop early, for tests and benchmarks)."""
+    exu.config.printToConsole = False
+    started = time.perf_counter()
+    gait, chain = gait_of(spec), chain_of(spec.robot)
+    law = BondLaw.from_surface(spec.surface, spec.solver.contact_smoothing)
+    model: Climber = build(spec, chain, gait, law)
+    solver = exu.MainSolverImplicitSecondOrder()
+    rate = max(spec.climb.imu_rate_hz, spec.platform.sensor.rate_hz)
+    loop = ClimbLoop(model, solver, rate)
+    model.mbs.SetPreStepUserFunction(loop)
+    model.mbs.SetPostStepUserFunction(loop.after_step)
+    end = gait.end if duration is None else duration
+    error = ""
+    try:
+        solver.SolveSystem(model.mbs, _settings(spec, end, rate))
+    except exu.ExudynError as err:
+        lines = str(err).strip().splitlines()
+        error = f"{type(err).__name__}: {lines[-1] if lines else err}"
+    if not error and loop.stopped:
+        error = f"stopped early: {loop.stopped}"
+    rows = loop.rows[: loop.count]
+    channels = {name: rows[:, sl] for name, sl in channel_slices().items()}
+    channels["t"] = channels["t"][:, 0]
+    channels["body_plan"] = channels["body_plan"][:, 0]
+    channels["swing"] = channels["swing"][:, 0].astype(int)
+    return ClimbRun(
+        spec=spec,
+        gait=gait,
+        channels=channels,
+        fell=loop.fall is not None,
+        fall_reason=loop.fall.why if loop.fall else "",
+        error=error,
+        wall_time=time.perf_counter() - started,
+        steps=loop.steps,
+        imu_reference=np.asarray(model.mbs.GetSensorStoredData(model.imu_sensor)),
+    )

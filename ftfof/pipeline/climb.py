@@ -1,0 +1,180 @@
+"""`ftfof climb`: one trajectory on the climbing robot, its channels, metrics and traces."""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pyarrow as pa
+
+from ftfof.climb.imu import ImuModel, imu_channels
+from ftfof.climb.metrics import StepMetrics, as_rows, step_metrics, summary
+from ftfof.climb.model import ClimbSpec
+from ftfof.climb.simulate import ClimbRun, chain_of, climb
+from ftfof.config import LEG_NAMES, Params
+from ftfof.errors import ParamsError
+from ftfof.files import atomic_path, save_figure, write_parquet
+from ftfof.pipeline.bench import bench, context_of
+from ftfof.pipeline.export import Source, trajectory_of
+from ftfof.report.climb_figure import climb_figure
+from ftfof.seeds import seed_for
+from ftfof.sim.spec import BASELINE_SEGMENTS
+from ftfof.trajectory.piecewise import PiecewiseQuintic
+
+
+@dataclass
+class Climbed:
+    name: str
+    run: ClimbRun
+    imu: dict[str, np.ndarray]
+    steps: list[StepMetrics]
+    summary: dict[str, float | bool]
+
+
+def climb_spec(
+    params: Params, source: Source, optimize: Path, allow_infeasible: bool = False
+) -> tuple[str, ClimbSpec]:
+    """The climb of ``source`` (as `ftfof export` names it) on the selected robot and surface;
+    refused, naming the rule, where the robot cannot run it (``allow_infeasible``: climbed all
+    the same, its name marked ``-infeasible``)."""
+    ctx = context_of(params)
+    robot = ctx.robot
+    if robot.climber is None:
+        raise ParamsError(f"robots.{ctx.name}", "has no climber block: it cannot climb")
+    name, trajectory, X, _ = trajectory_of(params, ctx, source, optimize)
+    failed = (
+        ctx.policy.check(X).failed(0) if X is not None else ctx.policy.path_failures(trajectory)
+    )
+    stroke = _stroke_breach(params)
+    if stroke:
+        raise ParamsError(name, stroke)
+    if failed and not allow_infeasible:
+        legs = ", ".join(LEG_NAMES)
+        raise ParamsError(
+            name,
+            f"every leg ({legs}) breaks {ctx.name}'s rules: {'; '.join(failed[:3])}"
+            " (--allow-infeasible climbs it all the same)",
+        )
+    if failed:
+        name += "-infeasible"
+    on = bench(params, ctx)
+    if X is not None:
+        piecewise = on.bezier("climb", 0, X).trajectory
+    else:
+        piecewise = PiecewiseQuintic.fit(trajectory, robot.timing.T3, BASELINE_SEGMENTS)
+    spec = ClimbSpec(
+        name=name,
+        trajectory=piecewise,
+        robot=robot,
+        surface=params.selected_surface,
+        platform=params.platform,
+        solver=params.acquire.solver,
+        climb=params.climb,
+        seed=seed_for(params.base.seed, "climb"),
+    )
+    return name, spec
+
+
+def _stroke_breach(params: Params) -> str:
+    """Whether every leg reaches its stance stroke, P0 to P15 along the wall, within its joints."""
+    robot = params.selected_robot
+    chain = chain_of(robot)
+    x = np.linspace(0.0, robot.landing.x, 50)
+    theta = chain.leg.inverse(np.stack([x, np.zeros_like(x)], axis=1))
+    limits = chain.leg.joint_limits
+    bad = ~np.isfinite(theta).all(axis=1) | ~np.all(
+        (theta >= limits[:, 0]) & (theta <= limits[:, 1]), axis=1
+    )
+    if bad.any():
+        at = 1e3 * x[np.argmax(bad)]
+        return f"every leg's stance stroke leaves its joint range {at:.0f} mm along the wall"
+    return ""
+
+
+def run_climb(params: Params, spec: ClimbSpec) -> Climbed:
+    """Climb, read the IMU, and measure every step."""
+    run = climb(spec)
+    c = run.channels
+    cl = params.climb
+    model = ImuModel(
+        cl.imu_rate_hz, cl.imu_acc_noise, cl.imu_acc_bias, cl.imu_gyro_noise, cl.imu_gyro_bias
+    )
+    imu = imu_channels(c["t"], c["body_acc"][:, :2], c["body"][:, 2], c["body_rate"][:, 2],
+                       model, spec.seed)  # fmt: skip
+    robot = spec.robot
+    reached = c["t"][-1] if c["t"].size else 0.0
+    steps = [
+        step_metrics(
+            c,
+            imu,
+            run.gait,
+            k,
+            params.platform.protocol.switch_height,
+            robot.foot.swing_clearance,
+            robot.timing.T2,
+        )
+        for k in range(spec.climb.steps)
+        if run.gait.lift_off(k) < reached
+    ]
+    return Climbed(spec.name, run, imu, steps, summary(steps, run.fell))
+
+
+def write_climb(out: Climbed, out_dir: Path, title: str) -> dict[str, Path]:
+    """``<name>.parquet`` (channels at the record rate), ``<name>_imu.parquet``, ``<name>.json``
+    (summary and steps), ``<name>.png``; each written whole or not at all."""
+    out_dir.mkdir(parents=True, exist_ok=True)
+    c = out.run.channels
+    columns = {"t": c["t"], "body_plan": c["body_plan"], "swing": c["swing"]}
+    for name, parts in (
+        ("body", ("x", "z", "pitch")),
+        ("body_rate", ("x", "z", "pitch")),
+        ("body_acc", ("x", "z", "pitch")),
+    ):
+        for i, part in enumerate(parts):
+            columns[f"{name}_{part}"] = c[name][:, i]
+    for leg, L in enumerate(LEG_NAMES):
+        columns[f"foot_x_{L}"] = c["foot"][:, 2 * leg]
+        columns[f"foot_z_{L}"] = c["foot"][:, 2 * leg + 1]
+        columns[f"Fx_{L}"] = c["force"][:, 2 * leg]
+        columns[f"Fz_{L}"] = c["force"][:, 2 * leg + 1]
+        columns[f"bonds_{L}"] = c["bonds"][:, leg]
+        columns[f"curvature_{L}"] = c["curvature"][:, leg]
+        for j in range(3):
+            columns[f"torque_{L}{j + 1}"] = c["torque"][:, 3 * leg + j]
+    paths = {
+        "channels": out_dir / f"{out.name}.parquet",
+        "imu": out_dir / f"{out.name}_imu.parquet",
+        "metrics": out_dir / f"{out.name}.json",
+        "figure": out_dir / f"{out.name}.png",
+    }
+    run = out.run
+    document = {
+        "trajectory": out.name,
+        "summary": {k: _plain(v) for k, v in out.summary.items()},
+        "fall": run.fall_reason,
+        "error": run.error,
+        "wall_time_s": round(run.wall_time, 3),
+        "steps": [{k: _plain(v) for k, v in row.items()} for row in as_rows(out.steps)],
+    }
+    text = json.dumps(document, indent=2) + "\n"  # everything is made before anything is written
+    gait = run.gait
+    swings = [(gait.lift_off(k), gait.lift_off(k) + gait.swing) for k in range(len(out.steps))]
+    figure = climb_figure(c, out.imu, swings, title)
+    write_parquet(paths["channels"], pa.table(columns))
+    write_parquet(paths["imu"], pa.table(out.imu))
+    with atomic_path(paths["metrics"]) as tmp:
+        tmp.write_text(text)
+    save_figure(figure, paths["figure"], dpi=100)
+    return paths
+
+
+def _plain(value: object) -> object:
+    """JSON's value: numpy scalars as Python's, a non-finite number as null."""
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value

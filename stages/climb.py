@@ -1,0 +1,68 @@
+"""`ftfof climb`: one trajectory on the whole robot climbing the wall -> Parquet, JSON, PNG."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from ftfof.pipeline import catalog
+from stages.common import ParamsOption, console, stage
+
+OPTIMIZE = catalog.path("polish_optimize")
+OUT_DIR = catalog.path("climbs")
+
+
+@stage
+def command(
+    params_path: Annotated[Path, ParamsOption] = Path("params.yaml"),
+    baseline: Annotated[
+        str | None, typer.Option(help="polynomial | cycloidal | random_bezier | eps_bezier.")
+    ] = None,
+    points: Annotated[
+        str | None,
+        typer.Option(help="12 control values P3x..P12x, P3z..P12z, comma-separated."),
+    ] = None,
+    unit: Annotated[str, typer.Option(help="Unit of --points: m or mm.")] = "m",
+    row: Annotated[int | None, typer.Option(help="A row of the front (--optimize).")] = None,
+    optimum: Annotated[bool, typer.Option(help="The chosen optimum (--optimize).")] = False,
+    optimize: Annotated[Path, typer.Option(help="The optimum and its front.")] = OPTIMIZE,
+    out_dir: Annotated[Path, typer.Option(help="Where the climb's files go.")] = OUT_DIR,
+    allow_infeasible: Annotated[
+        bool, typer.Option(help="Climb a trajectory the robot's rules refuse; named -infeasible.")
+    ] = False,
+) -> None:
+    """Climb the wall with the whole robot (climb.steps swings, one leg at a time), the swinging
+    foot on the given trajectory; writes its channels, IMU, per-step metrics and traces."""
+    from ftfof.errors import ParamsError
+    from ftfof.pipeline.bench import check_points, context_of, parse_points
+    from ftfof.pipeline.climb import climb_spec, run_climb, write_climb
+    from ftfof.pipeline.export import Source
+    from ftfof.pipeline.params_file import load_params
+
+    if sum((baseline is not None, points is not None, row is not None, optimum)) != 1:
+        raise ParamsError("climb", "give exactly one of --baseline, --points, --row, --optimum")
+    params = load_params(params_path)
+    X = None
+    if points is not None:
+        X = parse_points(points, unit)
+        check_points(X, unit, context_of(params), allow_infeasible)
+    source = Source(row=row, baseline=baseline, points=X)
+    name, spec = climb_spec(params, source, optimize, allow_infeasible)
+    out = run_climb(params, spec)
+    run = out.run
+    title = f"{params.robot} on {params.surface}: {name}"
+    paths = write_climb(out, out_dir, title)
+    s = out.summary
+    state = (
+        "FELL: " + run.fall_reason if run.fell else ("FAILED: " + run.error if run.error else "ok")
+    )
+    console.print(
+        f"{name}: {state}; {int(s['steps_done'])} of {spec.climb.steps} steps in"
+        f" {run.wall_time:.1f} s -> {paths['metrics']}"
+    )
+    for key in ("jitter", "jitter_step", "peak_pull", "slip", "min_bend_radius", "pitch_range"):
+        console.print(f"  {key:16s} {s[key]:10.4g}")
+    if run.error:
+        raise typer.Exit(1)

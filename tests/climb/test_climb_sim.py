@@ -1,0 +1,108 @@
+"""The climbing robot in Exudyn: it hangs, it falls cleanly, it repeats, its IMU reads the body."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from ftfof.climb.imu import ImuModel, imu_channels
+from ftfof.climb.simulate import climb
+from tests.climb.helpers import spec_of
+
+pytestmark = pytest.mark.integration
+
+
+def test_the_robot_hangs_on_four_bonded_pads(params):
+    """Two seconds on the wall before any swing: the body settles under its weight (the legs'
+    servo compliance) and then stays put."""
+    settle = params.platform.protocol.model_copy(update={"settle": 2.5})
+    spec = spec_of(params, platform=params.platform.model_copy(update={"protocol": settle}))
+    run = climb(spec, duration=2.0)
+    c = run.channels
+    assert run.ok and not run.fell
+    assert c["t"][-1] == pytest.approx(2.0, abs=2e-3)
+    assert (
+        np.all(c["bonds"] == c["bonds"][0]) and c["bonds"][0, 0] == params.acquire.solver.nodes + 1
+    )
+    settled = np.searchsorted(c["t"], 0.05)
+    drift = np.hypot(*(c["body"][-1, :2] - c["body"][settled, :2]))
+    assert drift < 1e-3
+    sag = np.hypot(*c["body"][settled, :2])
+    assert 0 < sag < 5e-3  # the weight bends the legs a little, no more
+
+
+def test_a_wall_that_cannot_hold_the_robot_drops_it_cleanly(params):
+    surface = params.selected_surface
+    weak = surface.model_copy(update={"strength": 0.05 * surface.strength})
+    run = climb(spec_of(params, surface=weak), duration=3.0)
+    assert run.fell, "the robot held on to a wall at 5 % of the surface's strength"
+    assert run.ok  # a fall ends the run, not a solver error
+    assert run.channels["t"][-1] < 3.0
+    assert "let go" in run.fall_reason or "left its plan" in run.fall_reason
+
+
+def test_a_repeat_is_bit_identical(params):
+    spec = spec_of(params)
+    first, second = (climb(spec, duration=0.6) for _ in range(2))
+    assert first.channels.keys() == second.channels.keys()
+    for name, values in first.channels.items():
+        assert np.array_equal(values, second.channels[name], equal_nan=True), name
+
+
+@pytest.fixture(scope="module")
+def short_climb(params):
+    return climb(spec_of(params), duration=0.8)  # the first lift-off and peel included
+
+
+def _solver_acc(run):
+    """The solver's trunk acceleration (its own sensor), at the recorded times."""
+    ref = run.imu_reference
+    t = run.channels["t"]
+    return np.stack([np.interp(t, ref[:, 0], ref[:, i]) for i in (1, 2)], axis=1)
+
+
+def test_the_ideal_imu_reads_the_solvers_body_acceleration(short_climb):
+    c = short_climb.channels
+    ideal = imu_channels(c["t"], c["body_acc"][:, :2], c["body"][:, 2], c["body_rate"][:, 2],
+                         ImuModel(1000.0), seed=1)  # fmt: skip
+    th = np.interp(ideal["t"], c["t"], c["body"][:, 2])
+    world = np.stack(
+        [
+            np.cos(th) * ideal["acc_x"] - np.sin(th) * ideal["acc_z"],
+            np.sin(th) * ideal["acc_x"] + np.cos(th) * ideal["acc_z"],
+        ],
+        axis=1,
+    )
+    solver = _solver_acc(short_climb)
+    solver = np.stack([np.interp(ideal["t"], c["t"], solver[:, i]) for i in (0, 1)], axis=1)
+    scale = np.max(np.abs(solver))
+    assert scale > 0.5  # the peel shakes the body: a comparison with something in it
+    assert np.max(np.abs(world - solver)) < 1e-6 * scale + 1e-9
+
+
+def test_the_noisy_imu_differs_from_the_ideal_by_its_noise_model(short_climb):
+    c = short_climb.channels
+    args = (c["t"], c["body_acc"][:, :2], c["body"][:, 2], c["body_rate"][:, 2])
+    ideal = imu_channels(*args, ImuModel(1000.0), seed=3)
+    noisy = imu_channels(*args, ImuModel(1000.0, acc_noise=0.2, acc_bias=0.05), seed=3)
+    error = noisy["acc_x"] - ideal["acc_x"]
+    assert np.mean(error) == pytest.approx(0.05, abs=3 * 0.2 / np.sqrt(error.size))
+    assert np.std(error) == pytest.approx(0.2, rel=0.1)
+    again = imu_channels(*args, ImuModel(1000.0, acc_noise=0.2, acc_bias=0.05), seed=3)
+    assert np.array_equal(again["acc_x"], noisy["acc_x"])
+
+
+def test_the_first_swing_peels_and_relands_its_pad(params):
+    """Lift-off to landing of the first leg: its pad lets go, the others hold all along."""
+    spec = spec_of(params)
+    run = climb(replace(spec, climb=spec.climb.model_copy(update={"steps": 1})))
+    c = run.channels
+    gait = run.gait
+    leg = gait.leg_of(0)
+    others = [k for k in range(4) if k != leg]
+    assert run.ok and not run.fell
+    assert c["bonds"][:, leg].min() == 0 and c["bonds"][-1, leg] > 0
+    assert np.all(c["bonds"][:, others] == c["bonds"][0, others])
+    assert c["body"][-1, 0] == pytest.approx(gait.advance, rel=0.1)

@@ -1,0 +1,71 @@
+"""`ftfof climb`: the whole robot on the wall from the command line, and what it refuses."""
+
+from __future__ import annotations
+
+import json
+
+import pyarrow.parquet as pq
+import pytest
+from typer.testing import CliRunner
+
+from stages.cli import app
+from tests.conftest import PUBLISHED_M3F, ROOT, cli_args, write_params
+
+runner = CliRunner()
+PARAMS = ROOT / "params.yaml"
+
+
+def test_one_trajectory_at_a_time(tmp_path):
+    args = cli_args("climb", PARAMS, baseline="polynomial", out_dir=tmp_path / "out")
+    result = runner.invoke(app, [*args, "--optimum"])
+    assert result.exit_code == 2 and "exactly one of" in result.stderr
+    assert not (tmp_path / "out").exists()
+
+
+def test_points_the_robot_cannot_run_are_refused_naming_the_rule(tmp_path):
+    X = PUBLISHED_M3F.copy()
+    X[7] = -0.01  # P4z ten millimetres into the wall
+    points = ",".join(f"{v:g}" for v in X)
+    result = runner.invoke(app, cli_args("climb", PARAMS, points=points, out_dir=tmp_path / "o"))
+    assert result.exit_code == 2 and "cannot run them" in result.stderr
+    assert not (tmp_path / "o").exists()
+
+
+def test_a_robot_without_a_climber_cannot_climb(tmp_path, params_dict):
+    del params_dict["robots"]["mst_m3f"]["climber"]
+    params = write_params(tmp_path / "params.yaml", params_dict)
+    result = runner.invoke(app, cli_args("climb", params, baseline="polynomial", out_dir=tmp_path / "o"))
+    assert result.exit_code == 2 and "has no climber block" in result.stderr
+
+
+def test_a_leg_that_cannot_reach_its_stance_stroke_is_refused(tmp_path, params_dict):
+    """MST-Q's preset puts P0 where its hip pitch needs -1.32 rad, past its -1.0 limit."""
+    params_dict["robot"] = "mst_q"
+    params = write_params(tmp_path / "params.yaml", params_dict)
+    result = runner.invoke(
+        app, cli_args("climb", params, baseline="eps_bezier", out_dir=tmp_path / "o")
+    )
+    assert result.exit_code == 2 and "stance stroke leaves its joint range" in result.stderr
+    assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.integration
+def test_a_one_step_climb_writes_its_channels_imu_metrics_and_traces(tmp_path, params_dict):
+    params_dict["climb"]["steps"] = 1
+    params = write_params(tmp_path / "params.yaml", params_dict)
+    out = tmp_path / "out"
+    result = runner.invoke(app, cli_args("climb", params, baseline="cycloidal", out_dir=out))
+    assert result.exit_code == 0, result.output
+    names = sorted(p.name for p in out.iterdir())
+    assert names == ["cycloidal.json", "cycloidal.parquet", "cycloidal.png", "cycloidal_imu.parquet"]
+    doc = json.loads((out / "cycloidal.json").read_text())
+    assert doc["summary"]["fell"] is False and doc["summary"]["steps_done"] == 1
+    (step,) = doc["steps"]
+    assert step["release"] == "" and step["jitter"] > 0 and step["peak_pull"] > 1.0
+    assert step["min_bend_radius"] >= 0.9 * params_dict["robots"]["mst_m3f"]["foot"][
+        "film_min_bend_radius"
+    ]
+    channels = pq.read_table(out / "cycloidal.parquet")
+    assert {"t", "body_x", "Fz_FL", "bonds_HR", "torque_FL1"} <= set(channels.column_names)
+    imu = pq.read_table(out / "cycloidal_imu.parquet")
+    assert imu.column_names == ["t", "acc_x", "acc_z", "gyro", "acc"]

@@ -130,10 +130,14 @@ class ClimbLoop:
 
         The robot starts with every pad bonded at the pre-pressure; on a vertical wall no
         normal force but the feet's own acts, so a foot presses only against the others' pull:
-        one at a time, on landing."""
+        one at a time, on landing. Each landing finds its depth afresh from zero (a depth kept
+        from the last landing would jump the foot into the wall at the next lift-off)."""
         gait = self.r.gait
         tau = t - gait.lift_off(int(gait.step_at(np.array([t]))[0]))
         if tau < gait.swing:
+            self.press_depth[leg] = 0.0
+            return
+        if tau >= gait.swing + gait.hold:
             return
         sensor = self.sensor
         z = self.patches[leg] + 1

@@ -18,6 +18,7 @@ time.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 from numpy.typing import NDArray
@@ -47,13 +48,12 @@ class Gait:
     hips: Array  # (4,) hip x on the body, m
     foot_start: Array  # (2,) every foot's start P0 relative to its hip (the chain's -hip)
 
-    @property
+    @cached_property
     def stride(self) -> Array:
         """P15 - P0 of the swing, m."""
-        p = self.trajectory.sample(np.array([self.trajectory.duration])).position[0, 0]
-        return p
+        return self.trajectory.sample(np.array([self.trajectory.duration])).position[0, 0]
 
-    @property
+    @cached_property
     def advance(self) -> float:
         """The body's advance per step: a quarter stride."""
         return float(self.stride[0]) / LEGS

@@ -20,7 +20,7 @@ from numpy.typing import NDArray
 
 from ftfof.climb.gait import LEGS, min_jerk
 from ftfof.climb.model import BASE, JOINTS, Climber
-from ftfof.sim import film
+from ftfof.sim import bonds, film
 from ftfof.sim.padstate import PadTracker
 from ftfof.sim.prestep import PRESS_TIME_CONSTANT
 
@@ -87,6 +87,9 @@ class ClimbLoop:
         self.stopped = ""
         self.steps = 0
         self.held = np.ones(LEGS, dtype=bool)
+        self.sole = spec.robot.platform.foot.sole_length
+        self.film_width = spec.robot.platform.film.width
+        self.laid: set[int] = set()
 
     def __call__(self, mbs, t: float) -> bool:
         q = self.data.GetODE2Coordinates(copy=False)
@@ -101,6 +104,7 @@ class ClimbLoop:
         self.held = held
         if swing >= 0:
             self._press(swing, t, q, qd)
+            self._lay(swing, t, q)
         self._targets(t)
         self.steps += 1
         if self.steps % 64 == 0:
@@ -145,6 +149,16 @@ class ClimbLoop:
         error = self.r.spec.robot.pre_pressure - compression
         h = self.solver.it.currentStepSize
         self.press_depth[leg] += error / self.series_stiffness * min(h / PRESS_TIME_CONSTANT, 1.0)
+
+    def _lay(self, leg: int, t: float, q: Array) -> None:
+        """When the landing hold ends, the foot's sole lays its film on the wall (once a step)."""
+        gait, sole = self.r.gait, self.sole
+        step = int(gait.step_at(np.array([t]))[0])
+        if sole is None or step in self.laid or t - gait.lift_off(step) < gait.swing + gait.hold:
+            return
+        self.laid.add(step)
+        pressure = self.r.spec.robot.pre_pressure / (self.film_width * sole)
+        self.pads[leg].lay(q, sole, pressure, bonds.IDLE_HEIGHT)
 
     def _applied_press(self, t: float) -> Array:
         """Each leg's press into the wall now: the landing leg's loop depth through its swing

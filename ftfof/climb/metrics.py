@@ -35,7 +35,7 @@ class StepMetrics:
     jitter: float  # m/s^2
     jitter_step: float  # m/s^2
     peak_pull: float  # N
-    landing_press: float  # N, the landed pad's peak press on the wall
+    landing_press: float  # N, the landed pad's peak press on the wall in its landing hold
     slip: float  # m
     min_bend_radius: float  # m (inf: the film never bent in a free span)
     pitch_range: float  # rad
@@ -91,7 +91,8 @@ def step_metrics(
     pitch = c["body"][inside, 2]
     switched = np.flatnonzero(ch["switch"] > 0)
     switch_time = float(t[switched[0]]) if switched.size else math.inf
-    landing = (t >= T3) if np.isfinite(switch_time) else np.zeros_like(t, dtype=bool)
+    # the landing press: complete detachment to the end of the landing hold, as the platform's
+    landing = (t >= switch_time) & (t <= T3 + gait.hold)
     kappa = float(np.max(ch["film_curvature"], initial=0.0))
     return StepMetrics(
         step=step,

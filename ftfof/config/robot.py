@@ -184,6 +184,10 @@ class FootMechanics(Strict):
     grip_length: PositiveFloat  # film length clamped under the foot, m
     ankle_stiffness: PositiveFloat  # N m/rad
     ankle_damping: NonNegativeFloat  # N m s/rad
+    # m: the rigid sole over the pad that lays the film flat on the wall when the landing press
+    # ends (the climbing robot's next stance holds by all of it); None: only what the landing
+    # pressed holds. The platform's run ends with its landing hold, so it reads no difference
+    sole_length: PositiveFloat | None = None
 
 
 class BodyMechanics(Strict):

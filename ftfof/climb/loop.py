@@ -2,7 +2,8 @@
 
 Before each step it updates the four pads (:class:`ftfof.sim.padstate.PadTracker`); presses the
 landed foot to the pre-pressure a through its landing hold (the platform's integral loop on the
-wall patch's normal force) and releases that press over the body's advance that follows; sets
+wall patch's normal force; the foot's sole spreads it over the pad) and releases that press
+over the body's advance that follows; sets
 the joint targets from the gait through each leg's inverse kinematics against the body's plan;
 records the channels at the record rate; and stops the run cleanly when the robot falls: a
 stance pad fully let go, or the body ``climb.fall_distance`` off its plan.
@@ -20,7 +21,7 @@ from numpy.typing import NDArray
 
 from ftfof.climb.gait import LEGS, min_jerk
 from ftfof.climb.model import BASE, JOINTS, Climber
-from ftfof.sim import bonds, film
+from ftfof.sim import film
 from ftfof.sim.padstate import PadTracker
 from ftfof.sim.prestep import PRESS_TIME_CONSTANT
 
@@ -87,9 +88,7 @@ class ClimbLoop:
         self.stopped = ""
         self.steps = 0
         self.held = np.ones(LEGS, dtype=bool)
-        self.sole = spec.robot.platform.foot.sole_length
-        self.film_width = spec.robot.platform.film.width
-        self.laid: set[int] = set()
+        self.sole_on = -1  # the leg whose sole presses now
 
     def __call__(self, mbs, t: float) -> bool:
         q = self.data.GetODE2Coordinates(copy=False)
@@ -104,7 +103,7 @@ class ClimbLoop:
         self.held = held
         if swing >= 0:
             self._press(swing, t, q, qd)
-            self._lay(swing, t, q)
+        self._sole(t, swing)
         self._targets(t)
         self.steps += 1
         if self.steps % 64 == 0:
@@ -150,15 +149,21 @@ class ClimbLoop:
         h = self.solver.it.currentStepSize
         self.press_depth[leg] += error / self.series_stiffness * min(h / PRESS_TIME_CONSTANT, 1.0)
 
-    def _lay(self, leg: int, t: float, q: Array) -> None:
-        """When the landing hold ends, the foot's sole lays its film on the wall (once a step)."""
-        gait, sole = self.r.gait, self.sole
-        step = int(gait.step_at(np.array([t]))[0])
-        if sole is None or step in self.laid or t - gait.lift_off(step) < gait.swing + gait.hold:
+    def _sole(self, t: float, swing: int) -> None:
+        """The landing leg's sole presses its film through the landing hold, and only then: it
+        spreads the landing press over the pad, so the whole pad bonds again."""
+        on = -1
+        if swing >= 0:
+            gait = self.r.gait
+            tau = t - gait.lift_off(int(gait.step_at(np.array([t]))[0]))
+            on = swing if gait.swing <= tau < gait.swing + gait.hold else -1
+        if on == self.sole_on:
             return
-        self.laid.add(step)
-        pressure = self.r.spec.robot.pre_pressure / (self.film_width * sole)
-        self.pads[leg].lay(q, sole, pressure, bonds.IDLE_HEIGHT)
+        for leg, active in ((self.sole_on, False), (on, True)):
+            if leg >= 0:
+                for obj in self.r.soles[leg]:
+                    self.mbs.SetObjectParameter(obj, "activeConnector", active)
+        self.sole_on = on
 
     def _applied_press(self, t: float) -> Array:
         """Each leg's press into the wall now: the landing leg's loop depth through its swing

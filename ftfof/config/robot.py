@@ -184,9 +184,9 @@ class FootMechanics(Strict):
     grip_length: PositiveFloat  # film length clamped under the foot, m
     ankle_stiffness: PositiveFloat  # N m/rad
     ankle_damping: NonNegativeFloat  # N m s/rad
-    # m: the rigid sole over the pad that lays the film flat on the wall when the landing press
-    # ends (the climbing robot's next stance holds by all of it); None: only what the landing
-    # pressed holds. The platform's run ends with its landing hold, so it reads no difference
+    # m: the rigid sole over the pad, from the grip on, that presses the film onto the wall in
+    # the climbing robot's landing hold, so the whole pad bonds again (the next stance holds by
+    # it); None: only what the heel pressed bonds. The platform does not model it (decision 0019)
     sole_length: PositiveFloat | None = None
 
 

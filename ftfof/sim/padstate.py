@@ -60,7 +60,6 @@ class PadTracker:
         n = len(parts.film_nodes)
         self.node_index = np.array([mbs.GetNodeODE2Index(k) for k in parts.film_nodes], np.int64)
         self.plate_index = int(mbs.GetNodeODE2Index(parts.plate_node))
-        self.law = law
         self.state = bonds.BondState.bonded(parts.x_ref, initial_pressure, law)
         self.kernel_law = bonds.kernel_law(law)
         self.push = np.zeros(n * 2, dtype=np.int64)
@@ -105,28 +104,6 @@ class PadTracker:
         if n_armed:
             self._arm(n_armed)
         return PadStep(n_push, n_bonded, lowest, load)
-
-    def lay(self, q: Array, upto: float, pressure: float, reach: float) -> int:
-        """Bond every broken node up to ``upto`` along the pad that lies within ``reach`` of the
-        wall, anchored where it is, with the preload of ``pressure``: a foot's rigid sole
-        pressed onto the film (:mod:`ftfof.climb.loop`). Returns how many it bonded."""
-        st, parts, setp = self.state, self.parts, self.mbs.SetObjectParameter
-        gap = q[self.node_index + 1] - q[self.plate_index + 1]
-        laid = np.flatnonzero(st.broken & (parts.x_ref <= upto + 1e-12) & (gap < reach))
-        xp = q[self.plate_index]
-        for i in laid:
-            st.broken[i] = False
-            st.anchor[i] = parts.x_ref[i] + q[self.node_index[i]] - xp
-            st.p_max[i] = pressure
-            st.rate[i], st.opening_rate[i], st.opening_max[i] = 1.0, 0.0, 0.0
-            st.scale[i] = float(bonds.preload_factor(pressure, self.law.preload_pressure))
-            obj = parts.bonds[i]
-            setp(obj, "offset", [float(st.anchor[i]), 0.0, 0.0])
-            setp(obj, "damping", [0.0, float(st.scale[i]), 0.0])
-            if self.idle[i]:
-                self.idle[i] = False
-                setp(obj, "activeConnector", True)
-        return int(laid.size)
 
     def _apply(self, n_push: int, t: float) -> None:
         st, setp = self.state, self.mbs.SetObjectParameter

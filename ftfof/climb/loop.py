@@ -37,6 +37,7 @@ CHANNELS = (
     ("bonds", LEGS),
     ("lowest", LEGS),  # the film's lowest point above its wall patch
     ("curvature", LEGS),  # free-span curvature of each swinging pad's film (0 in stance)
+    ("joints", JOINTS * LEGS),  # chain angles relative to the trunk
     ("torque", JOINTS * LEGS),
     ("swing", 1),  # the swinging leg, -1 while all hold
 )
@@ -235,6 +236,7 @@ class ClimbLoop:
                 bonds,
                 lowest,
                 curvature,
+                q[joints],
                 torque,
                 [swing],
             ]

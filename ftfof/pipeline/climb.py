@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pyarrow as pa
+from matplotlib.figure import Figure
 
 from ftfof.climb.imu import ImuModel, imu_channels
 from ftfof.climb.metrics import StepMetrics, as_rows, step_metrics, summary
@@ -19,7 +20,7 @@ from ftfof.errors import ParamsError
 from ftfof.files import atomic_path, save_figure, write_parquet
 from ftfof.pipeline.bench import bench, context_of
 from ftfof.pipeline.export import Source, trajectory_of
-from ftfof.report.climb_figure import climb_figure
+from ftfof.report.climb_figure import climb_figure, climb_filmstrip
 from ftfof.seeds import seed_for
 from ftfof.sim.spec import BASELINE_SEGMENTS
 from ftfof.trajectory.piecewise import PiecewiseQuintic
@@ -143,12 +144,14 @@ def write_climb(out: Climbed, out_dir: Path, title: str) -> dict[str, Path]:
         columns[f"bonds_{L}"] = c["bonds"][:, leg]
         columns[f"curvature_{L}"] = c["curvature"][:, leg]
         for j in range(3):
+            columns[f"joint_{L}{j + 1}"] = c["joints"][:, 3 * leg + j]
             columns[f"torque_{L}{j + 1}"] = c["torque"][:, 3 * leg + j]
     paths = {
         "channels": out_dir / f"{out.name}.parquet",
         "imu": out_dir / f"{out.name}_imu.parquet",
         "metrics": out_dir / f"{out.name}.json",
         "figure": out_dir / f"{out.name}.png",
+        "side": out_dir / f"{out.name}_side.png",
     }
     run = out.run
     document = {
@@ -163,12 +166,34 @@ def write_climb(out: Climbed, out_dir: Path, title: str) -> dict[str, Path]:
     gait = run.gait
     swings = [(gait.lift_off(k), gait.lift_off(k) + gait.swing) for k in range(len(out.steps))]
     figure = climb_figure(c, out.imu, swings, title)
+    side = side_view(out, title)
     write_parquet(paths["channels"], pa.table(columns))
     write_parquet(paths["imu"], pa.table(out.imu))
     with atomic_path(paths["metrics"]) as tmp:
         tmp.write_text(text)
     save_figure(figure, paths["figure"], dpi=100)
+    save_figure(side, paths["side"], dpi=90)
     return paths
+
+
+def side_view(out: Climbed, title: str) -> Figure:
+    """The climb from the side: each step's swing a third of the way in, and the last moment."""
+    run, spec = out.run, out.run.spec
+    chain = chain_of(spec.robot)
+    gait = run.gait
+    end = float(run.channels["t"][-1]) if run.channels["t"].size else 0.0
+    frames = [gait.lift_off(k) + gait.swing / 3 for k in range(len(out.steps))]
+    frames = [f for f in frames if f < end] + [end]
+    return climb_filmstrip(
+        run.channels,
+        frames,
+        gait.hips,
+        float(chain.hip[1]),
+        chain.links,
+        spec.robot.platform.foot.ankle_height,
+        spec.robot.foot.pad_length,
+        f"{title}: from the side",
+    )
 
 
 def _plain(value: object) -> object:

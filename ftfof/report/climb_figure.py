@@ -39,3 +39,52 @@ def climb_figure(
     axes[2].legend(loc="upper left", ncol=4)
     axes[3].set(ylabel="bonds holding", xlabel="t [s]")
     return fig
+
+
+def climb_filmstrip(
+    channels: dict[str, Array],
+    frames: list[float],
+    hips: Array,
+    hip_height: float,
+    links: tuple[float, float],
+    ankle_height: float,
+    pad_length: float,
+    title: str,
+) -> Figure:
+    """The robot from the side at ``frames`` (s): the wall vertical on the left, x up it, the
+    trunk, each leg's thigh, shank and foot, and each pad on the wall (red while it lets go)."""
+    c = channels
+    fig, axes = plt.subplots(1, len(frames), figsize=(1.9 * len(frames), 5.2), sharey=True,
+                             constrained_layout=True)  # fmt: skip
+    axes = np.atleast_1d(axes)
+    l1, l2 = links
+    for ax, when in zip(axes, frames, strict=True):
+        i = int(np.clip(np.searchsorted(c["t"], when), 0, len(c["t"]) - 1))
+        bx, bz, pitch = c["body"][i]
+        base = np.array([bx, hip_height + bz])
+        along = np.array([np.cos(pitch), np.sin(pitch)])
+        ax.axvline(0.0, color="0.4", lw=3)
+        ends = np.array([base + h * along for h in (hips.min(), hips.max())])
+        ax.plot(1e3 * ends[:, 1], 1e3 * ends[:, 0], color="k", lw=5, solid_capstyle="round")
+        for leg, name in enumerate(LEG_NAMES):
+            hip = base + hips[leg] * along
+            q = c["joints"][i, 3 * leg : 3 * leg + 3]
+            a1, a2 = pitch + q[0], pitch + q[0] + q[1]
+            knee = hip + l1 * np.array([np.cos(a1), np.sin(a1)])
+            ankle = knee + l2 * np.array([np.cos(a2), np.sin(a2)])
+            foot = np.array([c["foot"][i, 2 * leg], c["foot"][i, 2 * leg + 1] - ankle_height])
+            colour = f"C{leg}"
+            chain = np.array([hip, knee, ankle, foot])
+            ax.plot(1e3 * chain[:, 1], 1e3 * chain[:, 0], "-o", color=colour, ms=2, lw=1.2,
+                    label=name)  # fmt: skip
+            held = c["bonds"][i, leg] > 0
+            pad_z = max(foot[1], 0.0)
+            ax.plot([1e3 * pad_z] * 2, 1e3 * np.array([foot[0], foot[0] + pad_length]),
+                    color=colour if held else "red", lw=3)  # fmt: skip
+        ax.set_title(f"t = {c['t'][i]:.2f} s", fontsize=9)
+        ax.set_xlim(-5, 1e3 * (hip_height + l1 + 0.02))
+        ax.set_xlabel("z [mm]")
+    axes[0].set_ylabel("x up the wall [mm]")
+    axes[0].legend(loc="lower right", fontsize=7)
+    fig.suptitle(title)
+    return fig

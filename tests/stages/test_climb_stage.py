@@ -34,7 +34,9 @@ def test_points_the_robot_cannot_run_are_refused_naming_the_rule(tmp_path):
 def test_a_robot_without_a_climber_cannot_climb(tmp_path, params_dict):
     del params_dict["robots"]["mst_m3f"]["climber"]
     params = write_params(tmp_path / "params.yaml", params_dict)
-    result = runner.invoke(app, cli_args("climb", params, baseline="polynomial", out_dir=tmp_path / "o"))
+    result = runner.invoke(
+        app, cli_args("climb", params, baseline="polynomial", out_dir=tmp_path / "o")
+    )
     assert result.exit_code == 2 and "has no climber block" in result.stderr
 
 
@@ -57,14 +59,21 @@ def test_a_one_step_climb_writes_its_channels_imu_metrics_and_traces(tmp_path, p
     result = runner.invoke(app, cli_args("climb", params, baseline="cycloidal", out_dir=out))
     assert result.exit_code == 0, result.output
     names = sorted(p.name for p in out.iterdir())
-    assert names == ["cycloidal.json", "cycloidal.parquet", "cycloidal.png", "cycloidal_imu.parquet"]
+    assert names == [
+        "cycloidal.json",
+        "cycloidal.parquet",
+        "cycloidal.png",
+        "cycloidal_imu.parquet",
+        "cycloidal_side.png",
+    ]
     doc = json.loads((out / "cycloidal.json").read_text())
     assert doc["summary"]["fell"] is False and doc["summary"]["steps_done"] == 1
     (step,) = doc["steps"]
     assert step["release"] == "" and step["jitter"] > 0 and step["peak_pull"] > 1.0
-    assert step["min_bend_radius"] >= 0.9 * params_dict["robots"]["mst_m3f"]["foot"][
-        "film_min_bend_radius"
-    ]
+    assert (
+        step["min_bend_radius"]
+        >= 0.9 * params_dict["robots"]["mst_m3f"]["foot"]["film_min_bend_radius"]
+    )
     channels = pq.read_table(out / "cycloidal.parquet")
     assert {"t", "body_x", "Fz_FL", "bonds_HR", "torque_FL1"} <= set(channels.column_names)
     imu = pq.read_table(out / "cycloidal_imu.parquet")

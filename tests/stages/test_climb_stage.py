@@ -41,8 +41,11 @@ def test_a_robot_without_a_climber_cannot_climb(tmp_path, params_dict):
 
 
 def test_a_leg_that_cannot_reach_its_stance_stroke_is_refused(tmp_path, params_dict):
-    """MST-Q's preset puts P0 where its hip pitch needs -1.32 rad, past its -1.0 limit."""
+    """MST-Q's hip 20 mm ahead of P0 (its preset's first estimate) puts P0 at a hip pitch of
+    -1.32 rad, past its -1.0 limit: the swing's rules are the policy's, the stance stroke back
+    along the wall is the climb's."""
     params_dict["robot"] = "mst_q"
+    params_dict["robots"]["mst_q"]["leg"]["hip"]["x"] = 0.02
     params = write_params(tmp_path / "params.yaml", params_dict)
     result = runner.invoke(
         app, cli_args("climb", params, baseline="eps_bezier", out_dir=tmp_path / "o")

@@ -16,7 +16,7 @@ from ftfof.evaluate.feasible import admitted
 from ftfof.evaluate.run import Evaluation, Inputs, decision, evaluate, front_sample
 from ftfof.evaluate.runs import PAPER_OPTIMUM, table_name
 from ftfof.evaluate.specs import evaluation_specs
-from ftfof.files import atomic_path, write_json
+from ftfof.files import atomic_path
 from ftfof.pipeline import tracking
 from ftfof.pipeline.artefacts import (
     check_models,
@@ -27,6 +27,7 @@ from ftfof.pipeline.artefacts import (
 from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, context_of
 from ftfof.pipeline.console import console
 from ftfof.pipeline.jobs import FINAL, Acquisition
+from ftfof.pipeline.summaries import write_metrics
 from ftfof.report.context import STAGE_FIGURES
 from ftfof.robot import RobotContext
 from ftfof.trajectory.piecewise import Sampled
@@ -96,7 +97,7 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
         header = ",".join(controller.columns)
         np.savetxt(tmp, controller.table, delimiter=",", header=header, comments="", fmt="%.9g")
     result.summary["seconds"] = round(time.perf_counter() - started, 2)  # the stage's time
-    write_json(paths.metrics, result.summary)
+    write_metrics("evaluate", paths.metrics, result.summary)
     with atomic_path(paths.report) as tmp:
         tmp.write_text(html, encoding="utf-8")
     _track(params, inputs, result.summary, (paths.report, paths.export, paths.metrics))

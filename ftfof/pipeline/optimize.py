@@ -13,7 +13,7 @@ import numpy as np
 
 from ftfof.config import Params
 from ftfof.digests import models_digest
-from ftfof.files import atomic_path, save_figure, write_json
+from ftfof.files import atomic_path, save_figure
 from ftfof.optimize.problem import TrajectoryProblem
 from ftfof.optimize.search import (
     ConvergenceRecord,
@@ -33,6 +33,7 @@ from ftfof.pipeline.bench import context_of
 from ftfof.pipeline.console import console
 from ftfof.pipeline.registry import RegisteredWeights, fetch_model
 from ftfof.pipeline.simcheck import simulator_check_of
+from ftfof.pipeline.summaries import write_metrics
 from ftfof.robot import RobotContext
 
 if TYPE_CHECKING:
@@ -117,7 +118,7 @@ def write_outputs(
     }
     records = [r.as_dict() for r in result.history]
     write_optimum(to.out, outcome, setup.ctx, setup.models_digest, params.optimize)
-    write_json(to.metrics, outcome.summary)
+    write_metrics("optimize", to.metrics, outcome.summary)
     with atomic_path(to.convergence) as path:
         path.write_text(convergence_csv(records))
     figures[to.convergence.with_suffix(".png")] = convergence_figure(records)

@@ -22,7 +22,7 @@ import numpy as np
 from ftfof.config import Params
 from ftfof.digests import bytes_sha256, models_digest
 from ftfof.evaluate.run import Inputs, decision
-from ftfof.files import atomic_dir, write_json
+from ftfof.files import atomic_dir
 from ftfof.optimize.polish import Polished, polish, polish_report, polish_settings, polished_outcome
 from ftfof.optimize.search import ConvergenceRecord
 from ftfof.optimize.select import SimulatorCheck, Verdict, fine_policy
@@ -39,6 +39,7 @@ from ftfof.pipeline.artefacts import (
 from ftfof.pipeline.bench import context_of
 from ftfof.pipeline.console import console, progress
 from ftfof.pipeline.jobs import close_resumable, open_resumable
+from ftfof.pipeline.summaries import write_metrics
 from ftfof.robot import RobotContext
 from ftfof.trajectory.bezier import DECISION_NAMES
 
@@ -92,7 +93,7 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> dict[str, A
             for name in (FRONT_FILE, OPTIMUM_FILE):
                 shutil.copy(paths.optimize / name, tmp / name)
     report["seconds"] = round(time.perf_counter() - started, 2)
-    write_json(paths.report, report)
+    write_metrics("polish", paths.report, report)
     _track(params, inputs, report, paths)
     close_resumable(paths.out, key)
     return report

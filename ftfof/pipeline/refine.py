@@ -52,6 +52,7 @@ from ftfof.pipeline.artefacts import (
 from ftfof.pipeline.bench import bench, context_of
 from ftfof.pipeline.console import console
 from ftfof.pipeline.jobs import FINAL, Acquisition, close_resumable, open_resumable
+from ftfof.pipeline.summaries import write_metrics
 from ftfof.refine import rounds
 from ftfof.refine.rounds import Rounds
 from ftfof.robot import RobotContext
@@ -123,7 +124,7 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> dict[str, A
         "rounds": [{**r.record, "seconds": round(r.seconds, 2)} for r in rounds],
         "seconds": round(time.perf_counter() - stage_started, 2),  # the stage's, as in the rest
     }
-    write_json(paths.report, report)
+    write_metrics("refine", paths.report, report)
     save_figure(refine_figure(report["rounds"], inputs.objectives), paths.figure)
     _track(params, paths, report["rounds"], (paths.report, paths.figure))
     close_resumable(paths.out, key)

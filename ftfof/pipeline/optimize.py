@@ -70,8 +70,8 @@ def prepare(params: Params, models: Path) -> Setup:
     if registered.moved_from is not None:
         console.print(
             f"[yellow]{registered.name}@{params.train.alias} named version "
-            f"{registered.moved_from}; {models} holds version {registered.version}'s models (DVC "
-            "restored an earlier `train`): the alias is moved back to it"
+            f"{registered.moved_from} (refine's models, or DVC restored an earlier `train`); "
+            f"{models} holds version {registered.version}'s: the alias is moved to it"
         )
     surrogate = load_surrogate(models, params.train.use, registered.path)
     return build_setup(params, surrogate, models_digest(models), registered)

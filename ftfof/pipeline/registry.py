@@ -3,13 +3,17 @@ multi-output GRU over every target).
 
 ``train`` registers every model it trains as a new version and points an alias (``champion`` by
 default) at the model the optimiser is to use; ``optimize`` resolves it by that alias, so the
-MLflow UI shows which version each search used. The state dict rides along in the model version
+MLflow UI shows which version each search used. ``refine`` registers its fine-tuned models as a
+new version (unless no round changed them), and ``evaluate`` moves the alias to the version that
+found the optimum it reports (:func:`promote`): after a full run, ``champion`` names the model
+that produced the answer. The state dict rides along in the model version
 (``extra_files``) and is read with ``torch.load(weights_only=True)``: nothing is unpickled.
 
-Every version is tagged with the SHA-256 of its weights and peak models. DVC restores ``train``'s
-outputs from its run cache when params or code return to an earlier state, without running
-``train``, so the alias still names the newer version; ``optimize`` then moves the alias back to
-the version whose tags match the restored files, instead of refusing them.
+Every version is tagged with the SHA-256 of its weights and peak models. Where the alias names
+another version than the one holding ``data/models`` (``evaluate`` moved it to refine's
+fine-tuned version, or DVC restored an earlier ``train`` from its run cache without running it),
+``optimize`` moves the alias back to the version whose tags match the tracked files, instead of
+refusing them.
 """
 
 from __future__ import annotations
@@ -20,7 +24,7 @@ from pathlib import Path
 
 from ftfof.digests import file_sha256
 from ftfof.errors import DataError
-from ftfof.surrogate.store import PEAKS, weights_file
+from ftfof.surrogate.store import PEAKS, TARGETS, weights_file
 
 
 def model_name(robot: str, loss: str) -> str:
@@ -54,6 +58,92 @@ def weights_tags(models_dir: Path, loss: str) -> dict[str, str]:
         WEIGHTS_TAG: file_sha256(models_dir / weights_file(loss)),
         PEAKS_TAG: file_sha256(peaks) if peaks.is_file() else "none",
     }
+
+
+@dataclass(frozen=True)
+class Version:
+    """A registered model version: ``models:/<name>/<version>``."""
+
+    name: str
+    version: str
+
+    @property
+    def uri(self) -> str:
+        return f"models:/{self.name}/{self.version}"
+
+
+def requirements(mlflow) -> list[str]:
+    """The pip requirements a logged model names: what it was made with."""
+    import numpy as np
+    import torch
+
+    return [
+        f"torch=={torch.__version__.split('+')[0]}",
+        f"mlflow=={mlflow.__version__}",
+        f"numpy=={np.__version__}",
+    ]
+
+
+def module_of(models_dir: Path, loss: str):
+    """``loss``'s model in ``models_dir`` as a torch module (what MLflow logs), from its saved
+    config and state dict."""
+    import json
+
+    import torch
+
+    from ftfof.surrogate.model import ForceGRU, ModelConfig
+
+    config = json.loads((models_dir / "config.json").read_text())["model"]
+    model = ForceGRU(
+        ModelConfig(
+            hidden=config["hidden"],
+            layers=config["layers"],
+            dropout=config["dropout"],
+            outputs=config.get("outputs", len(TARGETS)),
+        )
+    )
+    model.load_state_dict(torch.load(models_dir / weights_file(loss), weights_only=True))
+    return model.eval()
+
+
+def register(
+    mlflow, robot: str, loss: str, models_dir: Path, module, **log_model: object
+) -> Version:
+    """Log ``module`` in the active run and register it as a new version of
+    ``ftfof-<robot>-<loss>``, carrying ``models_dir``'s state dict and peak models and tagged
+    with their digests (what :func:`fetch_model` and :func:`promote` match on)."""
+    name = model_name(robot, loss)
+    files = [models_dir / weights_file(loss), models_dir / PEAKS]
+    info = mlflow.pytorch.log_model(
+        module,
+        name="model",
+        pip_requirements=requirements(mlflow),
+        serialization_format="pickle",
+        registered_model_name=name,
+        extra_files=[str(p) for p in files if p.exists()],
+        **log_model,
+    )
+    client, version = mlflow.MlflowClient(), str(info.registered_model_version)
+    for key, value in weights_tags(models_dir, loss).items():
+        client.set_model_version_tag(name, version, key, value)
+    return Version(name, version)
+
+
+def registered(mlflow, robot: str, loss: str, models_dir: Path) -> Version | None:
+    """The newest version of ``ftfof-<robot>-<loss>`` holding ``models_dir``'s files (None if
+    none does)."""
+    name = model_name(robot, loss)
+    version = _newest_tagged(mlflow.MlflowClient(), name, weights_tags(models_dir, loss))
+    return None if version is None else Version(name, str(version.version))
+
+
+def promote(mlflow, robot: str, loss: str, alias: str, models_dir: Path) -> Version | None:
+    """Point ``alias`` at the version holding ``models_dir``'s files: the model that produced
+    the answer. None (the alias unmoved) where no version holds them."""
+    version = registered(mlflow, robot, loss, models_dir)
+    if version is not None:
+        mlflow.MlflowClient().set_registered_model_alias(version.name, alias, version.version)
+    return version
 
 
 def fetch_model(

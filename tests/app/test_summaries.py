@@ -64,7 +64,7 @@ def test_the_widest_train_summary_stays_short():
 
 
 def test_evaluate_summary_holds_what_sweep_prints():
-    assert SUMMARY == catalog.path("evaluate_summary").as_posix()
+    assert catalog.path("evaluate_summary").as_posix() == SUMMARY
     summary = summaries.evaluate(_report("evaluate"))
     assert summary["reference"]
     for metric in KEY_METRICS:

@@ -47,7 +47,7 @@ def test_metrics_and_figures(trained):
 
 
 def test_mlflow_holds_the_parent_and_child_runs_with_params_metrics_models_and_tags(trained):
-    _, uri, data = trained
+    tmp, uri, data = trained
     import mlflow
 
     client = mlflow.MlflowClient(tracking_uri=uri)
@@ -74,11 +74,20 @@ def test_mlflow_holds_the_parent_and_child_runs_with_params_metrics_models_and_t
     assert p.data.tags["machine.cpu"] == machine.label(machine.describe())
     figures = {a.path for a in client.list_artifacts(p.info.run_id, "figures")}
     assert figures == {"figures/models_loss.png", "figures/models_pred.png"}
+    # the run spans the training (it was opened before it), and each child its model's training
+    wall = json.loads((tmp / "models.json").read_text())["wall_seconds"]
+    assert p.info.end_time - p.info.start_time >= 1000 * wall
+    assert p.data.metrics["time.seconds"] == wall
+    for child in children:
+        assert child.info.start_time >= p.info.start_time and child.info.status == "FINISHED"
+        assert child.info.end_time - child.info.start_time >= 1000 * child_seconds(tmp, child)
     for child in children:
         assert child.data.params["train.epochs"] == str(data["train"]["epochs"])
-        history = client.get_metric_history(child.info.run_id, "validation_loss")
+        history = client.get_metric_history(child.info.run_id, "loss.validation")
         assert [m.step for m in history] == list(range(len(history))) and len(history) >= 1
-        want = {f"val_{t}_{m}" for t in TARGETS for m in ("mse", "dtw", "peak_error_median")}
+        want = {
+            f"validation.{t}.{m}" for t in TARGETS for m in ("mse", "dtw", "peak_error_median")
+        }
         assert want <= set(child.data.metrics)
     models = mlflow.search_logged_models(
         experiment_ids=[experiment.experiment_id], output_format="list"
@@ -120,3 +129,8 @@ def test_every_train_run_records_the_dataset_it_trained_on(trained):
         assert entry.dataset.digest == md5
         assert "data/dataset/samples.parquet" in entry.dataset.source
         assert {t.key: t.value for t in entry.tags}["mlflow.data.context"] == "training"
+
+
+def child_seconds(tmp, child) -> float:
+    """The training seconds of ``child``'s model, as train's metrics file records them."""
+    return json.loads((tmp / "models.json").read_text())[child.data.tags["loss"]]["seconds"]

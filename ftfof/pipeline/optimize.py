@@ -126,6 +126,23 @@ def write_outputs(
         save_figure(fig, target)
 
 
+def run_metrics(summary: dict) -> dict[str, float]:
+    """The optimize run's metrics: its time, the front, and the optimum as predicted."""
+    name = tracking.metric_name
+    return tracking.finite(
+        {
+            name("time", "seconds"): summary["seconds"],
+            name("time", "ms_per_generation"): summary["ms_per_generation"],
+            name("front", "size"): summary["front"]["size"],
+            name("front", "rejected_by_recheck"): summary["front"]["rejected_by_recheck"],
+            **{
+                name("optimum", "predicted", k): v
+                for k, v in summary["optimum"]["objectives"].items()
+            },
+        }
+    )
+
+
 class OptimizeRun:
     """The stage's MLflow run around the search, the choice and the outputs."""
 
@@ -204,22 +221,14 @@ class OptimizeRun:
         stamp = int(time.time() * 1000)
         step = record.generation
         metrics = [
-            Metric(k, float(getattr(record, k)), stamp, step)
+            Metric(tracking.metric_name("search", k), float(getattr(record, k)), stamp, step)
             for k in ("hypervolume", "feasible", "front")
         ]
         self.mlflow.MlflowClient().log_batch(self.run_id, metrics=metrics)
 
     def _finish(self, outcome: Outcome, artifacts: tuple[Path, ...], optimum_digest: str) -> None:
         mlflow, summary = self.mlflow, outcome.summary
-        mlflow.log_metrics(
-            {
-                "seconds": summary["seconds"],
-                "ms_per_generation": summary["ms_per_generation"],
-                "front_size": summary["front"]["size"],
-                "rejected_by_recheck": summary["front"]["rejected_by_recheck"],
-                **{f"optimum_{k}": v for k, v in summary["optimum"]["objectives"].items()},
-            }
-        )
+        mlflow.log_metrics(run_metrics(summary))
         mlflow.log_dict(summary, "optimize.json")
         mlflow.set_tag(tracking.OPTIMUM_DIGEST_TAG, optimum_digest)
         for path in artifacts:

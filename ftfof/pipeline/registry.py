@@ -22,9 +22,9 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
-from ftfof.digests import file_sha256
+from ftfof.digests import file_sha256, models_digest
 from ftfof.errors import DataError
-from ftfof.surrogate.store import PEAKS, TARGETS, weights_file
+from ftfof.surrogate.store import PEAKS, weights_file
 
 
 def model_name(robot: str, loss: str) -> str:
@@ -72,61 +72,25 @@ class Version:
         return f"models:/{self.name}/{self.version}"
 
 
-def requirements(mlflow) -> list[str]:
-    """The pip requirements a logged model names: what it was made with."""
-    import numpy as np
-    import torch
-
-    return [
-        f"torch=={torch.__version__.split('+')[0]}",
-        f"mlflow=={mlflow.__version__}",
-        f"numpy=={np.__version__}",
-    ]
-
-
-def module_of(models_dir: Path, loss: str):
-    """``loss``'s model in ``models_dir`` as a torch module (what MLflow logs), from its saved
-    config and state dict."""
+def used_loss(models_dir: Path) -> str:
+    """The loss of the model the searches in ``models_dir`` use (its config's ``use``)."""
     import json
 
-    import torch
-
-    from ftfof.surrogate.model import ForceGRU, ModelConfig
-
-    config = json.loads((models_dir / "config.json").read_text())["model"]
-    model = ForceGRU(
-        ModelConfig(
-            hidden=config["hidden"],
-            layers=config["layers"],
-            dropout=config["dropout"],
-            outputs=config.get("outputs", len(TARGETS)),
-        )
-    )
-    model.load_state_dict(torch.load(models_dir / weights_file(loss), weights_only=True))
-    return model.eval()
+    return json.loads((models_dir / "config.json").read_text())["use"]
 
 
-def register(
-    mlflow, robot: str, loss: str, models_dir: Path, module, **log_model: object
-) -> Version:
-    """Log ``module`` in the active run and register it as a new version of
-    ``ftfof-<robot>-<loss>``, carrying ``models_dir``'s state dict and peak models and tagged
-    with their digests (what :func:`fetch_model` and :func:`promote` match on)."""
-    name = model_name(robot, loss)
-    files = [models_dir / weights_file(loss), models_dir / PEAKS]
-    info = mlflow.pytorch.log_model(
-        module,
-        name="model",
-        pip_requirements=requirements(mlflow),
-        serialization_format="pickle",
-        registered_model_name=name,
-        extra_files=[str(p) for p in files if p.exists()],
-        **log_model,
-    )
-    client, version = mlflow.MlflowClient(), str(info.registered_model_version)
-    for key, value in weights_tags(models_dir, loss).items():
-        client.set_model_version_tag(name, version, key, value)
-    return Version(name, version)
+def model_record(models_dir: Path) -> dict[str, str]:
+    """What reports/metrics.json records of the surrogates that found the optimum: the loss, the
+    digest of their directory and the SHA-256 of the weights and peak models (the tags that
+    name their registered version)."""
+    loss = used_loss(models_dir)
+    tags = weights_tags(models_dir, loss)
+    return {
+        "loss": loss,
+        "models_digest": models_digest(models_dir),
+        "weights_sha256": tags[WEIGHTS_TAG],
+        "peaks_sha256": tags[PEAKS_TAG],
+    }
 
 
 def registered(mlflow, robot: str, loss: str, models_dir: Path) -> Version | None:

@@ -13,7 +13,8 @@ from ftfof.config import Params, Train
 from ftfof.digests import models_digest
 from ftfof.pipeline import tracking
 from ftfof.pipeline.console import progress
-from ftfof.pipeline.registry import model_name, module_of, register
+from ftfof.pipeline.registering import module_of, register
+from ftfof.pipeline.registry import model_name
 from ftfof.surrogate.fit import EpochReport, Training
 from ftfof.surrogate.store import TARGETS, TrainingData
 

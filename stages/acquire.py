@@ -33,9 +33,9 @@ def command(
     ] = None,
 ) -> None:
     """Simulate the force-acquisition platform for every trajectory (resumable)."""
-    from ftfof.files import write_json
     from ftfof.pipeline.jobs import FINAL, Acquisition
     from ftfof.pipeline.params_file import load_params
+    from ftfof.pipeline.summaries import write_metrics
 
     job = Acquisition.prepare(load_params(params_path), trajectories, out, limit)
     cfg = job.params.acquire
@@ -49,7 +49,7 @@ def command(
     )
     wall = job.simulate(todo, n_workers, address, "acquire")
     summary = job.finish(wall, len(todo), timing)
-    write_json(metrics, summary)
+    write_metrics("acquire", metrics, summary)
     console.print(
         f"{summary['ok']} ok, {summary['failed']} failed "
         f"({summary['seconds_per_sample']:.3f} s/sample) -> {out / FINAL}"

@@ -27,15 +27,16 @@ def command(
     plot: Annotated[Path, typer.Option(help="PNG of a few samples.")] = PLOT,
 ) -> None:
     """Resample every ok sample to fixed-length sequences, split 85/15, normalise on train."""
-    from ftfof.files import save_figure, write_json
+    from ftfof.files import save_figure
     from ftfof.pipeline.dataset import build
     from ftfof.pipeline.params_file import load_params
+    from ftfof.pipeline.summaries import write_metrics
     from ftfof.surrogate.store import FILE, write_dataset
 
     built = build(load_params(params_path), acquisition, imported)
     # Everything is computed; now write: the dataset directory appears whole or not at all.
     write_dataset(out, built.table)
-    write_json(metrics, built.summary)
+    write_metrics("dataset", metrics, built.summary)
     save_figure(built.figure, plot)
     s = built.summary
     console.print(

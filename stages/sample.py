@@ -8,8 +8,9 @@ from typing import Annotated
 
 import typer
 
-from ftfof.files import write_json, write_parquet
+from ftfof.files import write_parquet
 from ftfof.pipeline.catalog import path
+from ftfof.pipeline.summaries import write_metrics
 from stages.common import ParamsOption, console, progress, stage
 
 OUT = path("trajectories")
@@ -80,7 +81,7 @@ def command(
         "limits": ctx.limits.summary(),
         "seconds": round(elapsed, 3),
     }
-    write_json(metrics, summary)
+    write_metrics("sample", metrics, summary)
     console.print(
         f"sampled {n} trajectories for {ctx.name} from {result.draws:,} draws "
         f"(acceptance {result.acceptance_rate:.2e}) -> {out}"

@@ -28,10 +28,11 @@ def command(
 ) -> None:
     """Train the trajectory -> force GRU of each loss in train.losses (DILATE or MSE; the
     optimiser uses train.use) and the peak GPs of train.peaks; log and register them in MLflow."""
-    from ftfof.files import save_figure, write_json
+    from ftfof.files import save_figure
     from ftfof.pipeline.machine import describe
     from ftfof.pipeline.params_file import load_params
-    from ftfof.pipeline.training import track
+    from ftfof.pipeline.summaries import write_metrics
+    from ftfof.pipeline.training import TrainRun, epochs_bar
     from ftfof.report.figures import loss_figure, prediction_figure
     from ftfof.seeds import seed_for
     from ftfof.surrogate.fit import train_all
@@ -39,14 +40,17 @@ def command(
 
     params = load_params(params_path)
     data = read_dataset(dataset_dir)
-    run = train_all(params.train, params.search_seed, data)
-    loss_fig = loss_figure(run.results)
-    pred_fig = prediction_figure(run.results, data, seed_for(params.base.seed, "plots"))
-    write_models(out, run.results, data, params.train, run.peaks)
-    write_json(metrics, {**run.summary, "machine": describe()})  # whose weights these are
-    save_figure(loss_fig, loss_plot)
-    save_figure(pred_fig, pred_plot)
-    track(params, run, data, (loss_plot, pred_plot), out, dataset_dir)
+    with TrainRun(params, dataset_dir, data.metadata_digest) as tracked:  # spans the training
+        with epochs_bar(params.train) as on_epoch:
+            run = train_all(params.train, params.search_seed, data, on_epoch=on_epoch)
+        loss_fig = loss_figure(run.results)
+        pred_fig = prediction_figure(run.results, data, seed_for(params.base.seed, "plots"))
+        write_models(out, run.results, data, params.train, run.peaks)
+        # the machine: whose weights these are
+        write_metrics("train", metrics, {**run.summary, "machine": describe()})
+        save_figure(loss_fig, loss_plot)
+        save_figure(pred_fig, pred_plot)
+        tracked.finish(run, data, (loss_plot, pred_plot), out)
     for r in run.results:
         h = r["history"]
         console.print(

@@ -110,7 +110,7 @@ def test_mlflow_ui_serves_the_runs_and_a_metric_history(trained, tmp_path):
         assert [n for n in names if n.partition("-")[0] not in others] == ["dilate", "mse", "train"]
         child = next(r for r in runs if r["info"]["run_name"] == "dilate")
         history = _call(
-            f"{base}/api/2.0/mlflow/metrics/get-history?run_id={child['info']['run_id']}&metric_key=validation_loss"
+            f"{base}/api/2.0/mlflow/metrics/get-history?run_id={child['info']['run_id']}&metric_key=loss.validation"
         )["metrics"]
         assert [m["step"] for m in history] == list(range(len(history))) and history
         with urllib.request.urlopen(f"{base}/", timeout=30) as resp:

@@ -5,6 +5,7 @@ Slow (a few minutes): CI runs it with `-m slow`.
 
 import json
 import re
+from pathlib import Path
 
 import mlflow
 import pyarrow.parquet as pq
@@ -106,6 +107,34 @@ def test_mlflow_store_holds_every_tracked_stage(repo):
     assert all(r.data.tags["dvc.stage"] in STAGES for r in runs if "dvc.stage" in r.data.tags)
 
 
+def test_champion_resolves_to_the_model_that_produced_the_optimum(repo, tmp_path):
+    """`models:/ftfof-<robot>-<loss>@champion` holds the surrogates reports/metrics.json names:
+    refine's fine-tuned version when a round changed train's models, else train's."""
+    from ftfof.digests import file_sha256, models_digest
+    from ftfof.surrogate.store import weights_file
+
+    record = json.loads((repo / "reports/metrics.json").read_text())["model"]
+    assert record["models_digest"] == models_digest(repo / "data/refine/models")
+    uri = f"sqlite:///{repo / 'mlflow.db'}"
+    name = f"ftfof-mst_m3f-{record['loss']}"
+    mlflow.set_tracking_uri(uri)
+    local = mlflow.artifacts.download_artifacts(f"models:/{name}@champion", dst_path=str(tmp_path))
+    weights = Path(local) / "extra_files" / weights_file(record["loss"])
+    assert file_sha256(weights) == record["weights_sha256"]
+    client = mlflow.MlflowClient(tracking_uri=uri)
+    champion = client.get_model_version_by_alias(name, "champion")
+    fine_tuned = models_digest(repo / "data/refine/models") != models_digest(repo / "data/models")
+    made_by = client.get_run(champion.run_id).data.tags["mlflow.source.name"]
+    assert made_by == ("refine" if fine_tuned else "train")
+    experiment = client.get_experiment_by_name("ftfof-mst_m3f")
+    evaluate = client.search_runs(
+        [experiment.experiment_id],
+        "attributes.run_name = 'evaluate' AND attributes.status = 'FINISHED'",
+        order_by=["attributes.start_time DESC"],
+    )[0]
+    assert evaluate.data.tags["ftfof.model"] == f"models:/{name}/{champion.version}"
+
+
 def test_forced_rerun_at_another_commit_reproduces_every_artefact(repo):
     before = _out_hashes(repo)
     with (repo / "README.md").open("a") as readme:  # a new commit that changes no input
@@ -132,7 +161,10 @@ def test_a_queued_sweep_runs_in_parallel_workers_and_compares(repo):
     diff = run(
         repo, "dvc", "metrics", "diff", "--json", "mst_q-painted_wall", "mst_m3f-painted_wall"
     )
-    assert "table.optimum.peak_detachment" in json.loads(diff.stdout)["reports/metrics.json"]
+    # the summaries only: a few figures per stage, not the full reports' hundreds
+    compared = json.loads(diff.stdout)
+    assert "optimum.peak_detachment" in compared["reports/summary/evaluate.json"]
+    assert "reports/metrics.json" not in compared
     # MST-Q detaches straight up: the polynomial and the cycloid break its rules (FTFOF §VII), so
     # its Table I is taken against a trajectory it can run
     quad_metrics = json.loads(

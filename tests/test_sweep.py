@@ -93,9 +93,9 @@ def test_a_finished_sweep_prints_its_key_columns_only():
                 "params": {"params.yaml": {"data": {
                     "robot": robot, "surface": "glass", "base": {"seed": 7},
                 }}},
-                "metrics": {"reports/metrics.json": {"data": {
+                "metrics": {"reports/summary/evaluate.json": {"data": {
                     "reference": "polynomial",
-                    "table": {"optimum": {"peak_pull": pull, "peak_pull_change": change}},
+                    "optimum": {"peak_pull": pull, "peak_pull_change": change},
                 }}},
             },
         }  # fmt: skip

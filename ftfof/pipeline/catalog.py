@@ -32,19 +32,24 @@ def _a(path: str, format: str, writer: str, part_of: str | None = None) -> Artef
 ARTEFACTS: dict[str, Artefact] = {
     "trajectories": _a("data/trajectories.parquet", "trajectories", "sample"),
     "sample_metrics": _a("reports/sample.json", "json", "sample"),
+    "sample_summary": _a("reports/summary/sample.json", "json", "sample"),
     "acquisition": _a("data/acquisition", "simulations", "acquire"),
     "acquire_metrics": _a("reports/acquire.json", "json", "acquire"),
+    "acquire_summary": _a("reports/summary/acquire.json", "json", "acquire"),
     "acquire_timing": _a("reports/acquire_timing.csv", "csv", "acquire"),
     "imported": _a("data/imported", "imported_logs", "import-logs"),
     "dataset": _a("data/dataset", "dataset", "dataset"),
     "dataset_metrics": _a("reports/dataset.json", "json", "dataset"),
+    "dataset_summary": _a("reports/summary/dataset.json", "json", "dataset"),
     "dataset_figure": _a("reports/dataset_samples.png", "png", "dataset"),
     "models": _a("data/models", "models", "train"),
     "train_metrics": _a("reports/train_metrics.json", "json", "train"),
+    "train_summary": _a("reports/summary/train.json", "json", "train"),
     "train_loss": _a("reports/train_loss.png", "png", "train"),
     "train_predictions": _a("reports/train_predictions.png", "png", "train"),
     "optimize": _a("data/optimize", "optimum", "optimize"),
     "optimize_metrics": _a("reports/optimize.json", "json", "optimize"),
+    "optimize_summary": _a("reports/summary/optimize.json", "json", "optimize"),
     "optimize_convergence": _a("reports/optimize_convergence.csv", "csv", "optimize"),
     "optimize_convergence_figure": _a("reports/optimize_convergence.png", "png", "optimize"),
     "optimize_star": _a("reports/optimize_star.png", "png", "optimize"),
@@ -53,13 +58,16 @@ ARTEFACTS: dict[str, Artefact] = {
     "refine_models": _a("data/refine/models", "models", "refine", "refine"),
     "refine_optimize": _a("data/refine/optimize", "optimum", "refine", "refine"),
     "refine_report": _a("reports/refine.json", "refine_report", "refine"),
+    "refine_summary": _a("reports/summary/refine.json", "json", "refine"),
     "refine_figure": _a("reports/refine_fidelity.png", "png", "refine"),
     "polish": _a("data/polish", "polish_rounds", "polish"),
     "polish_optimize": _a("data/polish/optimize", "optimum", "polish", "polish"),
     "polish_report": _a("reports/polish.json", "json", "polish"),
+    "polish_summary": _a("reports/summary/polish.json", "json", "polish"),
     "evaluate": _a("data/evaluate", "simulations", "evaluate"),
     "report": _a("reports/evaluate.html", "html", "evaluate"),
     "metrics": _a("reports/metrics.json", "json", "evaluate"),
+    "evaluate_summary": _a("reports/summary/evaluate.json", "json", "evaluate"),
     "export": _a("reports/optimum_trajectory.csv", "csv", "evaluate"),
     "calibration": _a("reports/calibration.json", "json", "calibrate"),
     "simulate": _a("reports/simulate", "simulation_plots", "simulate"),
@@ -91,19 +99,26 @@ FORMATS: dict[str, tuple[str, str | None]] = {
 
 # command -> (the artefacts it reads, the artefacts it writes)
 STAGES: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
-    "sample": ((), ("trajectories", "sample_metrics")),
-    "acquire": (("trajectories",), ("acquisition", "acquire_timing", "acquire_metrics")),
+    "sample": ((), ("trajectories", "sample_metrics", "sample_summary")),
+    "acquire": (
+        ("trajectories",),
+        ("acquisition", "acquire_timing", "acquire_metrics", "acquire_summary"),
+    ),
     "dataset": (
         ("acquisition", "imported"),
-        ("dataset", "dataset_metrics", "dataset_figure"),
+        ("dataset", "dataset_metrics", "dataset_summary", "dataset_figure"),
     ),
-    "train": (("dataset",), ("models", "train_metrics", "train_loss", "train_predictions")),
+    "train": (
+        ("dataset",),
+        ("models", "train_metrics", "train_summary", "train_loss", "train_predictions"),
+    ),
     "optimize": (
         ("models",),
         (
             "optimize",
             "optimize_convergence",
             "optimize_metrics",
+            "optimize_summary",
             "optimize_convergence_figure",
             "optimize_star",
             "optimize_pcp",
@@ -111,9 +126,9 @@ STAGES: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
     ),
     "refine": (
         ("dataset", "models", "optimize"),
-        ("refine", "refine_report", "refine_figure"),
+        ("refine", "refine_report", "refine_summary", "refine_figure"),
     ),
-    "polish": (("refine_optimize", "refine_models"), ("polish", "polish_report")),
+    "polish": (("refine_optimize", "refine_models"), ("polish", "polish_report", "polish_summary")),
     "evaluate": (
         (
             "refine_models",
@@ -126,7 +141,7 @@ STAGES: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
             "train_loss",
             "train_predictions",
         ),
-        ("evaluate", "report", "export", "metrics"),
+        ("evaluate", "report", "export", "metrics", "evaluate_summary"),
     ),
 }
 
@@ -134,6 +149,13 @@ STAGES: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
 def path(name: str) -> Path:
     """Where the artefact ``name`` lives, relative to the project root."""
     return ARTEFACTS[name].path
+
+
+def summary_beside(metrics: Path, stage: str) -> Path:
+    """Where ``stage`` writes its short DVC summary when its full report goes to ``metrics``:
+    at the catalog's place relative to the reports folder, wherever that folder is (tests write
+    reports into a temporary folder)."""
+    return Path(metrics).parent / path(f"{stage}_summary").relative_to(REPORTS)
 
 
 def writer_of(path: Path) -> str | None:

@@ -4,9 +4,11 @@ write the report, and track it in MLflow linked to the optimize run."""
 from __future__ import annotations
 
 import time
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pyarrow.parquet as pq
@@ -16,7 +18,7 @@ from ftfof.evaluate.feasible import admitted
 from ftfof.evaluate.run import Evaluation, Inputs, decision, evaluate, front_sample
 from ftfof.evaluate.runs import PAPER_OPTIMUM, table_name
 from ftfof.evaluate.specs import evaluation_specs
-from ftfof.files import atomic_path, write_json
+from ftfof.files import atomic_path
 from ftfof.pipeline import tracking
 from ftfof.pipeline.artefacts import (
     check_models,
@@ -27,6 +29,8 @@ from ftfof.pipeline.artefacts import (
 from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, context_of
 from ftfof.pipeline.console import console
 from ftfof.pipeline.jobs import FINAL, Acquisition
+from ftfof.pipeline.registry import model_record, promote
+from ftfof.pipeline.summaries import write_metrics
 from ftfof.report.context import STAGE_FIGURES
 from ftfof.robot import RobotContext
 from ftfof.trajectory.piecewise import Sampled
@@ -54,52 +58,54 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
     ctx = context_of(params)
     inputs = read_optimum(paths.optimize, ctx.name)
     check_models(inputs, paths.optimize, paths.models)
-    surrogate = load_surrogate(paths.models)
-    pictures = {key: read_figure(paths.figures / key) for key, _ in STAGE_FIGURES}
-    rounds = read_refine(paths.refine)
-    front_rows = front_sample(inputs, params.evaluate.front_points)
-    baselines = baseline_trajectories(params, ctx)  # simulated, and judged by the robot's rules
-    job = _job(params, ctx, paths.out, inputs, front_rows, baselines)
-    cfg = params.acquire
-    todo = job.remaining()
-    console.print(
-        f"evaluate {ctx.name} on {params.surface}: {len(job.specs)} simulations "
-        f"(optimum, {len(front_rows)} front members, baselines"
-        f"{'; Table I again at the check step' if params.evaluate.check_step else ''}"
-        f"{'; all on the check film' if params.evaluate.check_nodes else ''}), "
-        f"{len(todo)} to run"
-    )
-    wall = job.simulate(
-        todo, cfg.workers if workers is None else workers, cfg.scheduler, "evaluate"
-    )
-    job.finish(wall, len(todo))
-    simulations = pq.read_table(job.out / FINAL).to_pandas()
-    bezier = {"optimum": decision(inputs, inputs.optimum["front_row"])}
-    if ctx.robot.published_optimum is not None:
-        bezier[table_name(PAPER_OPTIMUM)] = np.asarray(ctx.robot.published_optimum)
-    breaks = admitted(ctx, baselines, bezier)
-    result = evaluate(
-        params.evaluate,
-        params.acquire.solver,
-        params.surface,
-        ctx,
-        inputs,
-        simulations,
-        surrogate,
-        breaks,
-    )
-    values = report_context(result, ctx, inputs, params.surface, result.summary["reference"])
-    values["figures"] = {**pictures, **values["figures"]}
-    html = render({**values, "export_path": str(paths.export), "refine": rounds})
-    controller = result.controller
-    with atomic_path(paths.export) as tmp:
-        header = ",".join(controller.columns)
-        np.savetxt(tmp, controller.table, delimiter=",", header=header, comments="", fmt="%.9g")
-    result.summary["seconds"] = round(time.perf_counter() - started, 2)  # the stage's time
-    write_json(paths.metrics, result.summary)
-    with atomic_path(paths.report) as tmp:
-        tmp.write_text(html, encoding="utf-8")
-    _track(params, inputs, result.summary, (paths.report, paths.export, paths.metrics))
+    with _tracked(params, inputs) as mlflow:  # open while it works: the run spans it
+        surrogate = load_surrogate(paths.models)
+        pictures = {key: read_figure(paths.figures / key) for key, _ in STAGE_FIGURES}
+        rounds = read_refine(paths.refine)
+        front_rows = front_sample(inputs, params.evaluate.front_points)
+        baselines = baseline_trajectories(params, ctx)  # simulated, and judged by the robot's rules
+        job = _job(params, ctx, paths.out, inputs, front_rows, baselines)
+        cfg = params.acquire
+        todo = job.remaining()
+        console.print(
+            f"evaluate {ctx.name} on {params.surface}: {len(job.specs)} simulations "
+            f"(optimum, {len(front_rows)} front members, baselines"
+            f"{'; Table I again at the check step' if params.evaluate.check_step else ''}"
+            f"{'; all on the check film' if params.evaluate.check_nodes else ''}), "
+            f"{len(todo)} to run"
+        )
+        wall = job.simulate(
+            todo, cfg.workers if workers is None else workers, cfg.scheduler, "evaluate"
+        )
+        job.finish(wall, len(todo))
+        simulations = pq.read_table(job.out / FINAL).to_pandas()
+        bezier = {"optimum": decision(inputs, inputs.optimum["front_row"])}
+        if ctx.robot.published_optimum is not None:
+            bezier[table_name(PAPER_OPTIMUM)] = np.asarray(ctx.robot.published_optimum)
+        breaks = admitted(ctx, baselines, bezier)
+        result = evaluate(
+            params.evaluate,
+            params.acquire.solver,
+            params.surface,
+            ctx,
+            inputs,
+            simulations,
+            surrogate,
+            breaks,
+        )
+        values = report_context(result, ctx, inputs, params.surface, result.summary["reference"])
+        values["figures"] = {**pictures, **values["figures"]}
+        html = render({**values, "export_path": str(paths.export), "refine": rounds})
+        controller = result.controller
+        with atomic_path(paths.export) as tmp:
+            header = ",".join(controller.columns)
+            np.savetxt(tmp, controller.table, delimiter=",", header=header, comments="", fmt="%.9g")
+        result.summary["seconds"] = round(time.perf_counter() - started, 2)  # the stage's time
+        result.summary["model"] = model_record(paths.models)  # the surrogates that found it
+        write_metrics("evaluate", paths.metrics, result.summary)
+        with atomic_path(paths.report) as tmp:
+            tmp.write_text(html, encoding="utf-8")
+        _log(mlflow, params, result.summary, paths)
     return result
 
 
@@ -139,9 +145,10 @@ def _job(
     )
 
 
-def _track(params: Params, inputs: Inputs, summary: dict, artifacts: tuple[Path, ...]) -> None:
-    """An `evaluate` run with the table and fidelity as metrics, linked to the run that wrote its
-    optimum (`polish`; `refine` or `optimize` when evaluate is pointed at their output)."""
+@contextmanager
+def _tracked(params: Params, inputs: Inputs) -> Iterator[Any]:
+    """The `evaluate` run, open while the stage works, linked to the run that wrote its optimum
+    (`polish`; `refine` or `optimize` when evaluate is pointed at their output)."""
     experiment = tracking.experiment_name(params.robot)
     mlflow = tracking.setup(experiment)
     for source in ("polish", "refine", "optimize"):  # the run that wrote the optimum
@@ -156,17 +163,39 @@ def _track(params: Params, inputs: Inputs, summary: dict, artifacts: tuple[Path,
         )
         if found:
             break
-    metrics = {
-        f"{name}.{key}": value
-        for name, row in summary["table"].items()
-        for key, value in row.items()
-    }
-    for objective, values in summary["fidelity"].items():
-        for key, value in values.items():
-            if value == value:  # MLflow rejects NaN
-                metrics[f"fidelity.{objective}.{key}"] = float(value)
     with mlflow.start_run(run_name="evaluate", tags={**tracking.tags("evaluate"), **link}):
         mlflow.log_params(tracking.run_params(params, evaluate=params.evaluate.model_dump()))
-        mlflow.log_metrics(metrics)
-        for path in artifacts:
-            mlflow.log_artifact(str(path), artifact_path="report")
+        yield mlflow
+
+
+def _log(mlflow, params: Params, summary: dict, paths: Paths) -> None:
+    """The table and fidelity as metrics, the report as artifacts; ``train.alias`` moved to the
+    model version that found the optimum, which the run is tagged with."""
+    mlflow.log_metrics(run_metrics(summary))
+    for path in (paths.report, paths.export, paths.metrics):
+        mlflow.log_artifact(str(path), artifact_path="report")
+    version = promote(
+        mlflow, params.robot, summary["model"]["loss"], params.train.alias, paths.models
+    )
+    if version is None:
+        console.print(
+            f"[yellow]no registered model version holds {paths.models}'s surrogates: "
+            f"{params.train.alias} is not moved"
+        )
+    mlflow.set_tag(tracking.MODEL_TAG, version.uri if version else "unregistered")
+
+
+def run_metrics(summary: dict) -> dict[str, float]:
+    """``table.<row>.<column>`` (Table I analogue), ``fidelity.<objective>.<stat>`` and
+    ``time.seconds``."""
+    name = tracking.metric_name
+    out = {
+        name("table", row_name, key): value
+        for row_name, row in summary["table"].items()
+        for key, value in row.items()
+        if isinstance(value, int | float)
+    }
+    for objective, values in summary["fidelity"].items():
+        out.update({name("fidelity", objective, k): v for k, v in values.items()})
+    out[name("time", "seconds")] = summary["seconds"]
+    return tracking.finite(out)

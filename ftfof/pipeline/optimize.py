@@ -13,7 +13,7 @@ import numpy as np
 
 from ftfof.config import Params
 from ftfof.digests import models_digest
-from ftfof.files import atomic_path, save_figure, write_json
+from ftfof.files import atomic_path, save_figure
 from ftfof.optimize.problem import TrajectoryProblem
 from ftfof.optimize.search import (
     ConvergenceRecord,
@@ -33,6 +33,7 @@ from ftfof.pipeline.bench import context_of
 from ftfof.pipeline.console import console
 from ftfof.pipeline.registry import RegisteredWeights, fetch_model
 from ftfof.pipeline.simcheck import simulator_check_of
+from ftfof.pipeline.summaries import write_metrics
 from ftfof.robot import RobotContext
 
 if TYPE_CHECKING:
@@ -69,8 +70,8 @@ def prepare(params: Params, models: Path) -> Setup:
     if registered.moved_from is not None:
         console.print(
             f"[yellow]{registered.name}@{params.train.alias} named version "
-            f"{registered.moved_from}; {models} holds version {registered.version}'s models (DVC "
-            "restored an earlier `train`): the alias is moved back to it"
+            f"{registered.moved_from} (refine's models, or DVC restored an earlier `train`); "
+            f"{models} holds version {registered.version}'s: the alias is moved to it"
         )
     surrogate = load_surrogate(models, params.train.use, registered.path)
     return build_setup(params, surrogate, models_digest(models), registered)
@@ -117,12 +118,29 @@ def write_outputs(
     }
     records = [r.as_dict() for r in result.history]
     write_optimum(to.out, outcome, setup.ctx, setup.models_digest, params.optimize)
-    write_json(to.metrics, outcome.summary)
+    write_metrics("optimize", to.metrics, outcome.summary)
     with atomic_path(to.convergence) as path:
         path.write_text(convergence_csv(records))
     figures[to.convergence.with_suffix(".png")] = convergence_figure(records)
     for target, fig in figures.items():
         save_figure(fig, target)
+
+
+def run_metrics(summary: dict) -> dict[str, float]:
+    """The optimize run's metrics: its time, the front, and the optimum as predicted."""
+    name = tracking.metric_name
+    return tracking.finite(
+        {
+            name("time", "seconds"): summary["seconds"],
+            name("time", "ms_per_generation"): summary["ms_per_generation"],
+            name("front", "size"): summary["front"]["size"],
+            name("front", "rejected_by_recheck"): summary["front"]["rejected_by_recheck"],
+            **{
+                name("optimum", "predicted", k): v
+                for k, v in summary["optimum"]["objectives"].items()
+            },
+        }
+    )
 
 
 class OptimizeRun:
@@ -203,22 +221,14 @@ class OptimizeRun:
         stamp = int(time.time() * 1000)
         step = record.generation
         metrics = [
-            Metric(k, float(getattr(record, k)), stamp, step)
+            Metric(tracking.metric_name("search", k), float(getattr(record, k)), stamp, step)
             for k in ("hypervolume", "feasible", "front")
         ]
         self.mlflow.MlflowClient().log_batch(self.run_id, metrics=metrics)
 
     def _finish(self, outcome: Outcome, artifacts: tuple[Path, ...], optimum_digest: str) -> None:
         mlflow, summary = self.mlflow, outcome.summary
-        mlflow.log_metrics(
-            {
-                "seconds": summary["seconds"],
-                "ms_per_generation": summary["ms_per_generation"],
-                "front_size": summary["front"]["size"],
-                "rejected_by_recheck": summary["front"]["rejected_by_recheck"],
-                **{f"optimum_{k}": v for k, v in summary["optimum"]["objectives"].items()},
-            }
-        )
+        mlflow.log_metrics(run_metrics(summary))
         mlflow.log_dict(summary, "optimize.json")
         mlflow.set_tag(tracking.OPTIMUM_DIGEST_TAG, optimum_digest)
         for path in artifacts:

@@ -12,7 +12,8 @@ import json
 import os
 import shutil
 import time
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -22,7 +23,7 @@ import numpy as np
 from ftfof.config import Params
 from ftfof.digests import bytes_sha256, models_digest
 from ftfof.evaluate.run import Inputs, decision
-from ftfof.files import atomic_dir, write_json
+from ftfof.files import atomic_dir
 from ftfof.optimize.polish import Polished, polish, polish_report, polish_settings, polished_outcome
 from ftfof.optimize.search import ConvergenceRecord
 from ftfof.optimize.select import SimulatorCheck, Verdict, fine_policy
@@ -39,6 +40,8 @@ from ftfof.pipeline.artefacts import (
 from ftfof.pipeline.bench import context_of
 from ftfof.pipeline.console import console, progress
 from ftfof.pipeline.jobs import close_resumable, open_resumable
+from ftfof.pipeline.registry import registered, used_loss
+from ftfof.pipeline.summaries import write_metrics
 from ftfof.robot import RobotContext
 from ftfof.trajectory.bezier import DECISION_NAMES
 
@@ -80,20 +83,22 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> dict[str, A
     }
     key = open_resumable(paths.out, identity)
     passed = [Verdict(**v) for v in inputs.optimum["simulator_check"] if v["ok"]]
-    if params.polish.generations == 0:
-        report: dict[str, Any] = {"polished": False, "reason": "polish.generations is 0"}
-    elif not passed:
-        report = {"polished": False, "reason": "refine's optimum was not simulator-checked"}
-    else:
-        report = _polish(params, ctx, inputs, passed, paths)
-    if not report["polished"]:
-        console.print(f"[yellow]polish: {report['reason']}; refine's optimum is passed on as it is")
-        with atomic_dir(paths.out / OPTIMUM) as tmp:
-            for name in (FRONT_FILE, OPTIMUM_FILE):
-                shutil.copy(paths.optimize / name, tmp / name)
-    report["seconds"] = round(time.perf_counter() - started, 2)
-    write_json(paths.report, report)
-    _track(params, inputs, report, paths)
+    with _tracked(params, inputs) as mlflow:  # open for the search: the run spans it
+        if params.polish.generations == 0:
+            report: dict[str, Any] = {"polished": False, "reason": "polish.generations is 0"}
+        elif not passed:
+            report = {"polished": False, "reason": "refine's optimum was not simulator-checked"}
+        else:
+            report = _polish(params, ctx, inputs, passed, paths)
+        if not report["polished"]:
+            why = report["reason"]
+            console.print(f"[yellow]polish: {why}; refine's optimum is passed on as it is")
+            with atomic_dir(paths.out / OPTIMUM) as tmp:
+                for name in (FRONT_FILE, OPTIMUM_FILE):
+                    shutil.copy(paths.optimize / name, tmp / name)
+        report["seconds"] = round(time.perf_counter() - started, 2)
+        write_metrics("polish", paths.report, report)
+        _log(mlflow, params, report, paths)
     close_resumable(paths.out, key)
     return report
 
@@ -200,9 +205,10 @@ def journaled(check: SimulatorCheck, path: Path) -> SimulatorCheck:
     return judged
 
 
-def _track(params: Params, inputs: Inputs, report: dict[str, Any], paths: Paths) -> None:
-    """A `polish` run linked to the refine run that wrote its start, tagged with the optimum's
-    digest so that evaluate links to it."""
+@contextmanager
+def _tracked(params: Params, inputs: Inputs) -> Iterator[Any]:
+    """The `polish` run, open while the stage works, linked to the refine run that wrote its
+    start."""
     experiment = tracking.experiment_name(params.robot)
     mlflow = tracking.setup(experiment)
     link, _ = tracking.link_tags(
@@ -214,12 +220,29 @@ def _track(params: Params, inputs: Inputs, report: dict[str, Any], paths: Paths)
         tracking.OPTIMIZE_RUN_TAG,
         "Start",
     )
-    link[tracking.OPTIMUM_DIGEST_TAG] = optimum_digest(paths.out / OPTIMUM)
     with mlflow.start_run(run_name="polish", tags={**tracking.tags("polish"), **link}):
         mlflow.log_params(tracking.run_params(params, polish=params.polish.model_dump()))
-        metrics = {"seconds": report["seconds"]}
-        if report["polished"]:
-            metrics["simulated"] = report["simulated"]
-            metrics.update({f"optimum_{k}": v for k, v in report["optimum"]["simulated"].items()})
-        mlflow.log_metrics(metrics)
-        mlflow.log_dict(report, "polish.json")
+        yield mlflow
+
+
+def _log(mlflow, params: Params, report: dict[str, Any], paths: Paths) -> None:
+    """The run's metrics and report; tagged with its optimum's digest (evaluate links to it)
+    and the model version whose surrogates it searched on (refine's)."""
+    mlflow.log_metrics(run_metrics(report))
+    mlflow.log_dict(report, "polish.json")
+    mlflow.set_tag(tracking.OPTIMUM_DIGEST_TAG, optimum_digest(paths.out / OPTIMUM))
+    version = registered(mlflow, params.robot, used_loss(paths.models), paths.models)
+    mlflow.set_tag(tracking.MODEL_TAG, version.uri if version else "unregistered")
+
+
+def run_metrics(report: dict[str, Any]) -> dict[str, float]:
+    """``time.seconds``, and when it polished ``polish.simulated`` and
+    ``optimum.simulated.<objective>``."""
+    name = tracking.metric_name
+    out = {name("time", "seconds"): report["seconds"]}
+    if report["polished"]:
+        out[name("polish", "simulated")] = report["simulated"]
+        out.update(
+            {name("optimum", "simulated", k): v for k, v in report["optimum"]["simulated"].items()}
+        )
+    return tracking.finite(out)

@@ -41,7 +41,6 @@ from ftfof.evaluate.run import Inputs, front_sample
 from ftfof.evaluate.specs import front_specs
 from ftfof.files import atomic_dir, read_table, save_figure, write_json
 from ftfof.optimize.select import Nominees
-from ftfof.pipeline import tracking
 from ftfof.pipeline.artefacts import (
     check_models,
     optimum_digest,
@@ -52,6 +51,8 @@ from ftfof.pipeline.artefacts import (
 from ftfof.pipeline.bench import bench, context_of
 from ftfof.pipeline.console import console
 from ftfof.pipeline.jobs import FINAL, Acquisition, close_resumable, open_resumable
+from ftfof.pipeline.refine_run import RefineRun
+from ftfof.pipeline.summaries import write_metrics
 from ftfof.refine import rounds
 from ftfof.refine.rounds import Rounds
 from ftfof.robot import RobotContext
@@ -110,22 +111,27 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> dict[str, A
     key = _open(params, paths)
     state = State(paths.models, paths.optimize)
     rounds: list[Round] = []
-    for k in range(1, params.refine.rounds + 1):
-        started = time.perf_counter()
-        done = _round(params, ctx, paths.out / f"round-{k}", k, key, data, state, workers)
-        done.seconds = time.perf_counter() - started
-        rounds.append(done)
-        _say(done, inputs.objectives[0])
-        if done.last:
-            break
-    _publish(paths, state, data)
-    report = {
-        "rounds": [{**r.record, "seconds": round(r.seconds, 2)} for r in rounds],
-        "seconds": round(time.perf_counter() - stage_started, 2),  # the stage's, as in the rest
-    }
-    write_json(paths.report, report)
-    save_figure(refine_figure(report["rounds"], inputs.objectives), paths.figure)
-    _track(params, paths, report["rounds"], (paths.report, paths.figure))
+    # the run is open for the rounds: it spans them
+    with RefineRun(params, paths.models, paths.optimize, paths.out) as tracked:
+        for k in range(1, params.refine.rounds + 1):
+            started = time.perf_counter()
+            rdir = paths.out / f"round-{k}"
+            with tracked.round(k):
+                done = _round(params, ctx, rdir, k, key, data, state, workers)
+                done.seconds = time.perf_counter() - started
+                tracked.round_done({**done.record, "seconds": done.seconds}, rdir)
+            rounds.append(done)
+            _say(done, inputs.objectives[0])
+            if done.last:
+                break
+        _publish(paths, state, data)
+        report = {
+            "rounds": [{**r.record, "seconds": round(r.seconds, 2)} for r in rounds],
+            "seconds": round(time.perf_counter() - stage_started, 2),  # the stage's
+        }
+        write_metrics("refine", paths.report, report)
+        save_figure(refine_figure(report["rounds"], inputs.objectives), paths.figure)
+        tracked.finish(report, (paths.report, paths.figure))
     close_resumable(paths.out, key)
     return report
 
@@ -339,58 +345,3 @@ def _say(done: Round, first: str) -> None:
         )
         + f"; {done.seconds:.1f} s"
     )
-
-
-def _track(
-    params: Params, paths: Paths, rounds: list[dict[str, Any]], artifacts: tuple[Path, ...]
-) -> None:
-    """A parent run for the invocation and a child per round, linked to the runs that made
-    their models and fronts (train and optimize for the first round, the previous round after)."""
-    experiment = tracking.experiment_name(params.robot)
-    mlflow = tracking.setup(experiment)
-
-    def find(source: str, tag: str, digest: str) -> str:
-        return tracking.latest_run(mlflow, experiment, source, tag, digest) or "unknown"
-
-    train_run = find("train", tracking.MODELS_DIGEST_TAG, models_digest(paths.models))
-    optimize_run = find("optimize", tracking.OPTIMUM_DIGEST_TAG, optimum_digest(paths.optimize))
-    tags = tracking.tags("refine")
-    parent_tags = {
-        **tags,
-        tracking.SURROGATE_RUN_TAG: train_run,
-        tracking.OPTIMIZE_RUN_TAG: optimize_run,
-        tracking.MODELS_DIGEST_TAG: models_digest(paths.out / "models"),
-        tracking.OPTIMUM_DIGEST_TAG: optimum_digest(paths.out / "optimize"),
-    }
-    with mlflow.start_run(run_name="refine", tags=parent_tags):
-        settings = tracking.run_params(params, refine=params.refine.model_dump())
-        mlflow.log_params(settings)
-        mlflow.log_metric("rounds", len(rounds))
-        for path in artifacts:
-            mlflow.log_artifact(str(path), artifact_path="report")
-        links = {tracking.SURROGATE_RUN_TAG: train_run, tracking.OPTIMIZE_RUN_TAG: optimize_run}
-        for r in rounds:
-            rdir = paths.out / f"round-{r['round']}"
-            with mlflow.start_run(
-                run_name=f"refine-{r['round']}",
-                nested=True,
-                tags={**tags, **links, "round": str(r["round"])},
-            ) as child:
-                mlflow.log_params({**settings, "round": str(r["round"])})
-                mlflow.log_metrics(_metrics(r))
-                if (rdir / "models").is_dir():
-                    mlflow.log_artifacts(str(rdir / "models"), artifact_path="models")
-                    mlflow.set_tag(tracking.MODELS_DIGEST_TAG, models_digest(rdir / "models"))
-                    mlflow.set_tag(tracking.OPTIMUM_DIGEST_TAG, optimum_digest(rdir / "optimize"))
-                    run_id = child.info.run_id
-                    links = {tracking.SURROGATE_RUN_TAG: run_id, tracking.OPTIMIZE_RUN_TAG: run_id}
-
-
-def _metrics(record: dict[str, Any]) -> dict[str, float]:
-    """A round's numbers as MLflow metrics (NaN left out: MLflow rejects it)."""
-    out = {"added": float(record["added"]), "seconds": float(record["seconds"])}
-    for name, values in record["fidelity"].items():
-        out.update({f"fidelity.{name}.{k}": float(v) for k, v in values.items()})
-    for kind, values in record["optimum"].items():
-        out.update({f"optimum.{kind}.{n}": float(v) for n, v in values.items()})
-    return {k: v for k, v in out.items() if v == v}

@@ -3,13 +3,17 @@ multi-output GRU over every target).
 
 ``train`` registers every model it trains as a new version and points an alias (``champion`` by
 default) at the model the optimiser is to use; ``optimize`` resolves it by that alias, so the
-MLflow UI shows which version each search used. The state dict rides along in the model version
+MLflow UI shows which version each search used. ``refine`` registers its fine-tuned models as a
+new version (unless no round changed them), and ``evaluate`` moves the alias to the version that
+found the optimum it reports (:func:`promote`): after a full run, ``champion`` names the model
+that produced the answer. The state dict rides along in the model version
 (``extra_files``) and is read with ``torch.load(weights_only=True)``: nothing is unpickled.
 
-Every version is tagged with the SHA-256 of its weights and peak models. DVC restores ``train``'s
-outputs from its run cache when params or code return to an earlier state, without running
-``train``, so the alias still names the newer version; ``optimize`` then moves the alias back to
-the version whose tags match the restored files, instead of refusing them.
+Every version is tagged with the SHA-256 of its weights and peak models. Where the alias names
+another version than the one holding ``data/models`` (``evaluate`` moved it to refine's
+fine-tuned version, or DVC restored an earlier ``train`` from its run cache without running it),
+``optimize`` moves the alias back to the version whose tags match the tracked files, instead of
+refusing them.
 """
 
 from __future__ import annotations
@@ -18,7 +22,7 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
-from ftfof.digests import file_sha256
+from ftfof.digests import file_sha256, models_digest
 from ftfof.errors import DataError
 from ftfof.surrogate.store import PEAKS, weights_file
 
@@ -54,6 +58,56 @@ def weights_tags(models_dir: Path, loss: str) -> dict[str, str]:
         WEIGHTS_TAG: file_sha256(models_dir / weights_file(loss)),
         PEAKS_TAG: file_sha256(peaks) if peaks.is_file() else "none",
     }
+
+
+@dataclass(frozen=True)
+class Version:
+    """A registered model version: ``models:/<name>/<version>``."""
+
+    name: str
+    version: str
+
+    @property
+    def uri(self) -> str:
+        return f"models:/{self.name}/{self.version}"
+
+
+def used_loss(models_dir: Path) -> str:
+    """The loss of the model the searches in ``models_dir`` use (its config's ``use``)."""
+    import json
+
+    return json.loads((models_dir / "config.json").read_text())["use"]
+
+
+def model_record(models_dir: Path) -> dict[str, str]:
+    """What reports/metrics.json records of the surrogates that found the optimum: the loss, the
+    digest of their directory and the SHA-256 of the weights and peak models (the tags that
+    name their registered version)."""
+    loss = used_loss(models_dir)
+    tags = weights_tags(models_dir, loss)
+    return {
+        "loss": loss,
+        "models_digest": models_digest(models_dir),
+        "weights_sha256": tags[WEIGHTS_TAG],
+        "peaks_sha256": tags[PEAKS_TAG],
+    }
+
+
+def registered(mlflow, robot: str, loss: str, models_dir: Path) -> Version | None:
+    """The newest version of ``ftfof-<robot>-<loss>`` holding ``models_dir``'s files (None if
+    none does)."""
+    name = model_name(robot, loss)
+    version = _newest_tagged(mlflow.MlflowClient(), name, weights_tags(models_dir, loss))
+    return None if version is None else Version(name, str(version.version))
+
+
+def promote(mlflow, robot: str, loss: str, alias: str, models_dir: Path) -> Version | None:
+    """Point ``alias`` at the version holding ``models_dir``'s files: the model that produced
+    the answer. None (the alias unmoved) where no version holds them."""
+    version = registered(mlflow, robot, loss, models_dir)
+    if version is not None:
+        mlflow.MlflowClient().set_registered_model_alias(version.name, alias, version.version)
+    return version
 
 
 def fetch_model(

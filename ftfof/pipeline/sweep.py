@@ -23,6 +23,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ftfof.errors import FtfofError, ParamsError
+from ftfof.pipeline import catalog
 
 # command-line axis -> params key
 AXES = {"robots": "robot", "surfaces": "surface", "seeds": "base.search_seed"}
@@ -159,7 +160,9 @@ def run(
 
 # the columns a sweep is read by: what ran, and the optimum's figures against the reference
 KEY_PARAMS = (("robot",), ("surface",), ("base", "seed"))
-KEY_METRICS = {  # metrics.json's name -> the column's
+# evaluate's DVC summary: the reference, and the optimum's Table I figures with their changes
+SUMMARY = catalog.path("evaluate_summary").as_posix()
+KEY_METRICS = {  # the summary's name -> the column's
     "peak_pull": "pull [N]",
     "jitter": "detachment jitter [m/s²]",
     "landing_pre_pressure": "landing [N]",
@@ -191,8 +194,8 @@ def key_columns(shown: list[dict], names: Sequence[str]) -> str:
     for name in names:
         data = found.get(name, {})
         params = data.get("params", {}).get("params.yaml", {}).get("data", {})
-        metrics = data.get("metrics", {}).get("reports/metrics.json", {}).get("data", {})
-        optimum = metrics.get("table", {}).get("optimum", {})
+        metrics = data.get("metrics", {}).get(SUMMARY, {}).get("data", {})
+        optimum = metrics.get("optimum", {})
         cells = [name]
         for path in KEY_PARAMS:
             value: object = params

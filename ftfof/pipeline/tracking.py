@@ -4,9 +4,12 @@ the run that made its inputs (README, Browsing runs in MLflow)."""
 from __future__ import annotations
 
 import hashlib
+import math
 import os
+import re
 import subprocess
 import warnings
+from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -20,6 +23,9 @@ MODELS_DIGEST_TAG = "ftfof.models_digest"  # on the train run that wrote data/mo
 OPTIMUM_DIGEST_TAG = "ftfof.optimum_digest"  # on the optimize run that wrote data/optimize
 SURROGATE_RUN_TAG = "ftfof.surrogate_run"  # on an optimize run: the train run of its models
 OPTIMIZE_RUN_TAG = "ftfof.optimize_run"  # on an evaluate run: the optimize run of its optimum
+# on refine, polish and evaluate runs: the registered model version (models:/<name>/<version>)
+# whose surrogates found the run's optimum
+MODEL_TAG = "ftfof.model"
 # the training data's path in the repository
 DATASET_SOURCE = (catalog.path("dataset") / "samples.parquet").as_posix()
 
@@ -95,6 +101,27 @@ def git_commit() -> str:
     except OSError:
         return "unknown"
     return out.stdout.strip() or "unknown"
+
+
+_SCOPE = re.compile(r"^[a-z][a-z0-9_]*$")
+_PART = re.compile(r"[^A-Za-z0-9_]+")
+
+
+def metric_name(scope: str, *parts: object) -> str:
+    """The one naming scheme of every MLflow metric: ``<scope>.<name>[.<detail>...]``, dotted,
+    the scope a lowercase word (``time``, ``search``, ``optimum``, ``fidelity``, ``table``...),
+    the rest as the project spells them (objectives ``fs1``, targets ``Fd``), other characters
+    as ``_``. One scheme so that a metric is found by the same name in every stage's runs."""
+    if not _SCOPE.match(scope):
+        raise ValueError(f"metric scope {scope!r} is not a lowercase word")
+    if not parts:
+        raise ValueError(f"metric {scope!r} has no name after its scope")
+    return ".".join([scope, *(_PART.sub("_", str(p)).strip("_") for p in parts)])
+
+
+def finite(metrics: Mapping[str, float]) -> dict[str, float]:
+    """``metrics`` as floats without NaN and infinities (MLflow rejects them)."""
+    return {k: float(v) for k, v in metrics.items() if math.isfinite(float(v))}
 
 
 def flatten(data: dict, prefix: str = "") -> dict[str, str]:

@@ -7,10 +7,12 @@ it and keep what it returns their own way.
 
 from __future__ import annotations
 
+import functools
 import multiprocessing
 import os
+import queue
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from typing import Any
@@ -31,6 +33,7 @@ from ftfof.surrogate.peaks import (
 from ftfof.surrogate.store import TARGETS, TrainingData
 from ftfof.trajectory.bezier import DECISION_NAMES
 
+EpochReport = Callable[[str, int], None]  # (loss, epoch just finished)
 MIN_PEAK_ROWS = 3  # training rows with control values and the target a peak GP needs
 # the refinement rounds' training rows a local GP near the front needs: its 14 hyperparameters
 # are fitted on them (a paper-scale round adds ~43)
@@ -55,6 +58,7 @@ def train_all(
     warm_start: Mapping[str, dict[str, np.ndarray]] | None = None,
     peaks_from: Mapping[str, PeakPredictor] | None = None,
     near_front_peaks: Sequence[str] = (),
+    on_epoch: EpochReport | None = None,
 ) -> Training:
     """Train the multi-output model with every loss of ``cfg``, on the same split and seed (from
     ``search_seed``, :attr:`ftfof.config.Params.search_seed`), then the peak models.
@@ -64,7 +68,8 @@ def train_all(
     models refitted on ``data`` with their hyperparameters (fine-tuning) instead of fitted anew;
     the ``near_front_peaks`` targets also get a local GP on the refinement rounds' rows
     (:class:`ftfof.surrogate.peaks.NearFront`) once they have :data:`MIN_NEAR_FRONT_ROWS`,
-    blended with their broad GP or, without one, with the GRU's maximum.
+    blended with their broad GP or, without one, with the GRU's maximum. ``on_epoch(loss,
+    epoch)`` is called as each model finishes an epoch (a progress bar), also from workers.
     """
     jobs = [{"kind": k, "seed": seed_for(search_seed, "train", 0)} for k in cfg.losses]
     if warm_start is not None:
@@ -85,10 +90,10 @@ def train_all(
             for name in targets:
                 named, near = _only(name, cfg.peaks, near_front_peaks)
                 fits.append(pool.submit(fit_peaks, data, named, previous, near))
-            results = run_jobs(jobs, data, cfg)
+            results = run_jobs(jobs, data, cfg, on_epoch)
             peaks = {n: m for fit in fits for n, m in fit.result().items()}
     else:
-        results = run_jobs(jobs, data, cfg)
+        results = run_jobs(jobs, data, cfg, on_epoch)
         peaks = fit_peaks(data, cfg.peaks, previous, near_front_peaks)
     wall = time.perf_counter() - started
     summary: dict[str, Any] = {
@@ -200,19 +205,43 @@ def peak_metrics(model: PeakPredictor, data: TrainingData, use: dict[str, Any]) 
     }
 
 
-def run_jobs(jobs: list[dict], data: TrainingData, cfg: Train) -> list[dict]:
-    """Train every job, side by side in processes when asked (one torch thread pool each)."""
+def run_jobs(
+    jobs: list[dict], data: TrainingData, cfg: Train, on_epoch: EpochReport | None = None
+) -> list[dict]:
+    """Train every job, side by side in processes when asked (one torch thread pool each);
+    workers report their epochs through a queue this process reads for ``on_epoch``."""
     cores = os.cpu_count() or 1
     workers = min(len(jobs), cores) if cfg.parallel else 1
     threads = cfg.threads or max(1, cores // workers)
     if workers == 1:
-        return [_train_one(job, data, cfg, threads) for job in jobs]
-    with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("fork")) as pool:
-        futures = [pool.submit(_train_one, job, data, cfg, threads) for job in jobs]
-        return [f.result() for f in futures]
+        return [_train_one(job, data, cfg, threads, on_epoch) for job in jobs]
+    context = multiprocessing.get_context("fork")
+    with ProcessPoolExecutor(workers, mp_context=context) as pool:
+        if on_epoch is None:
+            futures = [pool.submit(_train_one, job, data, cfg, threads) for job in jobs]
+            return [f.result() for f in futures]
+        with context.Manager() as manager:
+            epochs = manager.Queue()
+            report = functools.partial(_put, epochs)
+            futures = [pool.submit(_train_one, job, data, cfg, threads, report) for job in jobs]
+            while True:
+                finished = all(f.done() for f in futures)  # before draining: no epoch is lost
+                try:
+                    while True:
+                        on_epoch(*epochs.get(timeout=0.2))
+                except queue.Empty:
+                    pass
+                if finished:
+                    return [f.result() for f in futures]
 
 
-def _train_one(job: dict, data: TrainingData, cfg: Train, threads: int) -> dict:
+def _put(epochs, loss: str, epoch: int) -> None:
+    epochs.put((loss, epoch))
+
+
+def _train_one(
+    job: dict, data: TrainingData, cfg: Train, threads: int, on_epoch: EpochReport | None = None
+) -> dict:
     """One job's model, its validation metrics and predictions: a worker process's whole task,
     torch and numba on the ``threads`` it was given."""
     import numba
@@ -234,6 +263,7 @@ def _train_one(job: dict, data: TrainingData, cfg: Train, threads: int) -> dict:
         job["seed"],
         TARGETS,
         warm_start=job.get("warm_start"),
+        on_epoch=None if on_epoch is None else lambda epoch, *_: on_epoch(job["kind"], epoch),
     )
     scale = np.asarray(data.target_scale)
     pred = predict(trained.model, x_va) * scale

@@ -6,6 +6,7 @@ import io
 import json
 import re
 import shutil
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -123,7 +124,7 @@ def test_mlflow_run_links_the_run_that_passed_its_optimum_on(evaluated):
     source = client.get_run(refine.data.tags["ftfof.optimize_run"])
     assert source.info.run_name == "optimize"
     assert source.data.tags["ftfof.optimum_digest"] == refine.data.tags["ftfof.optimum_digest"]
-    assert "optimum.peak_detachment_change" in run.data.metrics
+    assert "table.optimum.peak_detachment_change" in run.data.metrics
     artifacts = {a.path for a in client.list_artifacts(run.info.run_id, "report")}
     assert "report/report.html" in artifacts
 
@@ -168,3 +169,42 @@ def test_an_optimum_from_an_older_version_is_refused_by_its_missing_fields(evalu
     assert result.exit_code != 0
     assert "lacks simulator_check, rhs.rows" in result.output and "ftfof optimize" in result.output
     assert not (tmp_path / "sims").exists()
+
+
+def test_champion_resolves_to_the_model_that_produced_the_optimum(evaluated, tmp_path):
+    """The acceptance check of issue 37: `models:/ftfof-<robot>-<loss>@champion` holds the
+    surrogates reports/metrics.json names, and the evaluate and polish runs name that version."""
+    work, uri, data, _ = evaluated
+    import mlflow
+
+    from ftfof.digests import file_sha256
+    from ftfof.surrogate.store import weights_file
+
+    record = json.loads((work / "metrics.json").read_text())["model"]
+    assert record["weights_sha256"] == file_sha256(work / "refine" / "models" / weights_file("mse"))
+    name, alias = f"ftfof-mst_m3f-{record['loss']}", data["train"]["alias"]
+    mlflow.set_tracking_uri(uri)
+    local = Path(
+        mlflow.artifacts.download_artifacts(f"models:/{name}@{alias}", dst_path=str(tmp_path))
+    )
+    assert (
+        file_sha256(local / "extra_files" / weights_file(record["loss"]))
+        == (record["weights_sha256"])
+    )
+    client = mlflow.MlflowClient(tracking_uri=uri)
+    champion = client.get_model_version_by_alias(name, alias)
+    experiment = client.get_experiment_by_name("ftfof-mst_m3f")
+    run = client.search_runs(  # the latest: tests before this one evaluated again
+        [experiment.experiment_id],
+        "attributes.run_name = 'evaluate' AND attributes.status = 'FINISHED'",
+        order_by=["attributes.start_time DESC"],
+    )[0]
+    assert run.data.tags["ftfof.model"] == f"models:/{name}/{champion.version}"
+    polish = client.get_run(run.data.tags["ftfof.optimize_run"])
+    assert polish.data.tags["ftfof.model"] == run.data.tags["ftfof.model"]
+    # the runs span the work they record: opened before it, not after
+    for stage_run, seconds in (
+        (run, json.loads((work / "metrics.json").read_text())["seconds"]),
+        (polish, json.loads((work / "polish.json").read_text())["seconds"]),
+    ):
+        assert stage_run.info.end_time - stage_run.info.start_time >= 800 * seconds

@@ -128,7 +128,7 @@ def test_mlflow_run_links_the_surrogates_and_logs_convergence(optimized):
     assert len(runs) == 1
     run = runs[0]
     assert run.info.status == "FINISHED"
-    history = client.get_metric_history(run.info.run_id, "hypervolume")
+    history = client.get_metric_history(run.info.run_id, "search.hypervolume")
     assert [m.step for m in history] == [1, 2, 4, 6]
     assert run.data.params["optimize.population"] == str(TINY["population"])
     figures = {a.path for a in client.list_artifacts(run.info.run_id, "figures")}

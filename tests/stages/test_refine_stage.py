@@ -11,10 +11,11 @@ import pyarrow.parquet as pq
 import pytest
 from typer.testing import CliRunner
 
-from ftfof.digests import models_digest
+from ftfof.digests import file_sha256, models_digest
 from ftfof.pipeline.jobs import Acquisition
 from ftfof.refine import rounds
 from ftfof.surrogate import fit
+from ftfof.surrogate.store import weights_file
 from ftfof.trajectory.bezier import DECISION_NAMES, same_trajectory
 from stages.cli import app
 from tests.conftest import optimize_args, refine_args, tree_bytes, write_params
@@ -159,7 +160,22 @@ def test_mlflow_parent_run_with_a_linked_child_per_round(optimized, refined):
     assert client.get_run(first.data.tags["ftfof.optimize_run"]).info.run_name == "optimize"
     assert second.data.tags["ftfof.surrogate_run"] == first.info.run_id
     assert second.data.tags["ftfof.optimize_run"] == first.info.run_id
-    assert "fidelity.fs1.mae" in second.data.metrics and "added" in second.data.metrics
+    assert "fidelity.fs1.mae" in second.data.metrics and "refine.added" in second.data.metrics
+    # each round's run spans the round (opened when it started), the parent every round
+    report = json.loads((refined.parent / "two_rounds.json").read_text())
+    for child, record in zip((first, second), report["rounds"], strict=True):
+        assert child.info.end_time - child.info.start_time >= 1000 * record["seconds"] - 10
+    assert parent.info.end_time - parent.info.start_time >= 1000 * sum(
+        r["seconds"] for r in report["rounds"]
+    )
+    # the fine-tuned models are a registered version, named by the parent run
+    use = optimized[3]["train"]["use"]
+    uri = parent.data.tags["ftfof.model"]
+    name, version = uri.removeprefix("models:/").split("/")
+    registered = client.get_model_version(name, version)
+    assert name == f"ftfof-mst_m3f-{use}" and registered.run_id == parent.info.run_id
+    weights = file_sha256(refined / "models" / weights_file(use))
+    assert registered.tags["ftfof.weights_sha256"] == weights
     assert client.list_artifacts(second.info.run_id, "models")
     # every run says what produced it: its settings and the seeds, each round its number
     seed = str(optimized[3]["base"]["seed"])

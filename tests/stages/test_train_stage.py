@@ -47,7 +47,7 @@ def test_metrics_and_figures(trained):
 
 
 def test_mlflow_holds_the_parent_and_child_runs_with_params_metrics_models_and_tags(trained):
-    _, uri, data = trained
+    tmp, uri, data = trained
     import mlflow
 
     client = mlflow.MlflowClient(tracking_uri=uri)
@@ -74,15 +74,24 @@ def test_mlflow_holds_the_parent_and_child_runs_with_params_metrics_models_and_t
     assert p.data.tags["machine.cpu"] == machine.label(machine.describe())
     figures = {a.path for a in client.list_artifacts(p.info.run_id, "figures")}
     assert figures == {"figures/models_loss.png", "figures/models_pred.png"}
+    # the run spans the training (it was opened before it), and each child its model's training
+    wall = json.loads((tmp / "models.json").read_text())["wall_seconds"]
+    assert p.info.end_time - p.info.start_time >= 1000 * wall
+    assert p.data.metrics["time.seconds"] == wall
+    for child in children:
+        assert child.info.start_time >= p.info.start_time and child.info.status == "FINISHED"
+        assert child.info.end_time - child.info.start_time >= 1000 * child_seconds(tmp, child)
     for child in children:
         assert child.data.params["train.epochs"] == str(data["train"]["epochs"])
-        history = client.get_metric_history(child.info.run_id, "validation_loss")
+        history = client.get_metric_history(child.info.run_id, "loss.validation")
         assert [m.step for m in history] == list(range(len(history))) and len(history) >= 1
-        want = {f"val_{t}_{m}" for t in TARGETS for m in ("mse", "dtw", "peak_error_median")}
+        want = {f"validation.{t}.{m}" for t in TARGETS for m in ("mse", "dtw", "peak_error_median")}
         assert want <= set(child.data.metrics)
-    models = mlflow.search_logged_models(
+    logged = mlflow.search_logged_models(
         experiment_ids=[experiment.experiment_id], output_format="list"
     )
+    # one per child (refine's fine-tuned models, logged by other stage tests, are not train's)
+    models = [m for m in logged if m.source_run_id in {c.info.run_id for c in children}]
     assert len(models) == 2
     loaded = mlflow.pytorch.load_model(f"models:/{models[0].model_id}")
     assert loaded(torch.zeros(1, 24, 4)).shape == (1, 24, len(TARGETS))
@@ -96,9 +105,13 @@ def test_every_model_is_a_registered_version_and_the_used_one_has_the_alias(trai
     alias, use = data["train"]["alias"], data["train"]["use"]
     for loss in data["train"]["losses"]:
         name = f"ftfof-mst_m3f-{loss}"
-        (version,) = client.search_model_versions(f"name = '{name}'")
-        run = client.get_run(version.run_id)
-        assert run.data.tags["mlflow.source.name"] == "train"
+        versions = client.search_model_versions(f"name = '{name}'")
+        # refine's fine-tuned models are versions too (other stage tests share the store)
+        (run,) = [
+            r
+            for r in (client.get_run(v.run_id) for v in versions)
+            if r.data.tags["mlflow.source.name"] == "train"
+        ]
         assert run.data.params["loss"] == loss and run.data.params["targets"] == ",".join(TARGETS)
     champion = client.get_model_version_by_alias(f"ftfof-mst_m3f-{use}", alias)
     assert client.get_run(champion.run_id).data.params["loss"] == use
@@ -120,3 +133,8 @@ def test_every_train_run_records_the_dataset_it_trained_on(trained):
         assert entry.dataset.digest == md5
         assert "data/dataset/samples.parquet" in entry.dataset.source
         assert {t.key: t.value for t in entry.tags}["mlflow.data.context"] == "training"
+
+
+def child_seconds(tmp, child) -> float:
+    """The training seconds of ``child``'s model, as train's metrics file records them."""
+    return json.loads((tmp / "models.json").read_text())[child.data.tags["loss"]]["seconds"]

@@ -187,6 +187,9 @@ class Evaluate(Strict):
     # film elements: the optimum, the front members and Table I's trajectories are simulated
     # again on this many, to show the film's bend converged where fc is judged (null: not)
     check_nodes: Annotated[int, Field(ge=4)] | None = 80
+    # the climbing robot climbs Table I's trajectories the robot can run (docs/climb.md);
+    # false, or a robot without a climber block: not
+    climb: bool = True
 
 
 class Climb(Strict):

@@ -4,8 +4,13 @@ from __future__ import annotations
 
 import json
 import math
+import multiprocessing
+import os
+import signal
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pyarrow as pa
@@ -16,14 +21,19 @@ from ftfof.climb.metrics import StepMetrics, as_rows, step_metrics, summary
 from ftfof.climb.model import ClimbSpec
 from ftfof.climb.simulate import ClimbRun, chain_of, climb
 from ftfof.config import LEG_NAMES, Params
+from ftfof.digests import json_sha256
 from ftfof.errors import ParamsError
-from ftfof.files import atomic_path, save_figure, write_parquet
+from ftfof.files import atomic_path, save_figure, write_json, write_parquet
 from ftfof.pipeline.bench import bench, context_of
 from ftfof.pipeline.export import Source, trajectory_of
+from ftfof.pipeline.jobs import MANIFEST, open_resumable, source
 from ftfof.report.climb_figure import climb_figure, climb_filmstrip
+from ftfof.robot import RobotContext
 from ftfof.seeds import seed_for
 from ftfof.sim.spec import BASELINE_SEGMENTS
-from ftfof.trajectory.piecewise import PiecewiseQuintic
+from ftfof.trajectory.piecewise import PiecewiseQuintic, Sampled
+
+CLIMBS = "climb"  # evaluate's climbs, inside its simulations' directory
 
 
 @dataclass
@@ -61,22 +71,68 @@ def climb_spec(
         )
     if failed:
         name += "-infeasible"
-    on = bench(params, ctx)
+    return name, spec_for(params, ctx, name, trajectory, X)
+
+
+def spec_for(
+    params: Params, ctx: RobotContext, name: str, trajectory: Sampled, X: np.ndarray | None
+) -> ClimbSpec:
+    """The climb of one trajectory: a Bezier row exactly, an analytic one Hermite-fitted."""
     if X is not None:
-        piecewise = on.bezier("climb", 0, X).trajectory
+        piecewise = bench(params, ctx).bezier("climb", 0, X).trajectory
     else:
-        piecewise = PiecewiseQuintic.fit(trajectory, robot.timing.T3, BASELINE_SEGMENTS)
-    spec = ClimbSpec(
+        piecewise = PiecewiseQuintic.fit(trajectory, ctx.robot.timing.T3, BASELINE_SEGMENTS)
+    return ClimbSpec(
         name=name,
         trajectory=piecewise,
-        robot=robot,
+        robot=ctx.robot,
         surface=params.selected_surface,
         platform=params.platform,
         solver=params.acquire.solver,
         climb=params.climb,
         seed=seed_for(params.base.seed, "climb"),
     )
-    return name, spec
+
+
+def climb_all(
+    params: Params, specs: dict[str, ClimbSpec], out_dir: Path, workers: int
+) -> dict[str, dict[str, Any]]:
+    """Each spec's climb, written under ``out_dir`` as `ftfof climb` writes one, in a pool of
+    ``workers`` (0: all cores); returns each one's document (summary, fall, steps). Resumable:
+    a climb already written under the same fingerprint and code is read back, not run again."""
+    identity = {
+        "robot": params.selected_robot.model_dump(),
+        "surface": params.selected_surface.model_dump(),
+        "platform": params.platform.model_dump(),
+        "solver": params.acquire.solver.model_dump(),
+        "climb": params.climb.model_dump(),
+        "seed": params.base.seed,
+        "trajectories": {n: json_sha256(s.trajectory.coeffs.tolist()) for n, s in specs.items()},
+    }
+    key = open_resumable(out_dir, identity)
+    done = {n: read_document(out_dir, n) for n in specs if (out_dir / f"{n}.json").exists()}
+    todo = [n for n in specs if n not in done]
+    workers = min(workers or os.cpu_count() or 1, max(len(todo), 1))
+    with ProcessPoolExecutor(
+        workers, mp_context=multiprocessing.get_context("fork"), initializer=_ignore_interrupts
+    ) as pool:
+        futures = {pool.submit(run_climb, params, specs[n]): n for n in todo}
+        for future in as_completed(futures):
+            name = futures[future]
+            write_climb(future.result(), out_dir, f"{params.robot} on {params.surface}: {name}")
+            done[name] = read_document(out_dir, name)
+    write_json(out_dir / MANIFEST, {"fingerprint": key, "complete": True, "source": source()})
+    return {n: done[n] for n in specs}
+
+
+def read_document(out_dir: Path, name: str) -> dict[str, Any]:
+    """A written climb's JSON document."""
+    return json.loads((out_dir / f"{name}.json").read_text())
+
+
+def _ignore_interrupts() -> None:
+    """Workers leave Ctrl-C to the parent (as the acquisition's pool does)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 def _stroke_breach(params: Params) -> str:

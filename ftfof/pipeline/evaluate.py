@@ -27,12 +27,14 @@ from ftfof.pipeline.artefacts import (
     read_refine,
 )
 from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, context_of
+from ftfof.pipeline.climb import CLIMBS, climb_all, spec_for
 from ftfof.pipeline.console import console
 from ftfof.pipeline.jobs import FINAL, Acquisition
 from ftfof.pipeline.registry import model_record, promote
 from ftfof.pipeline.summaries import write_metrics
 from ftfof.report.context import STAGE_FIGURES
 from ftfof.robot import RobotContext
+from ftfof.trajectory.baselines import BezierTrajectory
 from ftfof.trajectory.piecewise import Sampled
 
 
@@ -93,8 +95,12 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
             surrogate,
             breaks,
         )
-        values = report_context(result, ctx, inputs, params.surface, result.summary["reference"])
-        values["figures"] = {**pictures, **values["figures"]}
+        climbed = _climbs(params, ctx, paths.out, baselines, bezier, breaks, workers)
+        result.summary["climb"] = climbed
+        values = report_context(
+            result, ctx, inputs, params.surface, result.summary["reference"], params.climb.steps
+        )
+        values["figures"] = {**pictures, **values["figures"], **_climb_figures(paths.out, climbed)}
         html = render({**values, "export_path": str(paths.export), "refine": rounds})
         controller = result.controller
         with atomic_path(paths.export) as tmp:
@@ -107,6 +113,48 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
             tmp.write_text(html, encoding="utf-8")
         _log(mlflow, params, result.summary, paths)
     return result
+
+
+def _climbs(
+    params: Params,
+    ctx: RobotContext,
+    out: Path,
+    baselines: Mapping[str, Sampled],
+    bezier: Mapping[str, np.ndarray],
+    breaks: Mapping[str, list[str]],
+    workers: int | None,
+) -> dict[str, Any]:
+    """Table I's trajectories on the climbing robot, each one the robot can run: per name its
+    climb's summary and fall (``not_climbed``: the others, and why)."""
+    if not params.evaluate.climb or ctx.robot.climber is None:
+        return {}
+    trajectories: dict[str, tuple[Sampled, np.ndarray | None]] = {
+        name: (trajectory, None) for name, trajectory in baselines.items()
+    }
+    for name, X in bezier.items():
+        trajectories[name] = (BezierTrajectory(ctx.policy, X), X)
+    runnable = {n: t for n, t in trajectories.items() if not breaks.get(n)}
+    specs = {n: spec_for(params, ctx, n, t, X) for n, (t, X) in runnable.items()}
+    console.print(f"evaluate: the climbing robot climbs {', '.join(specs)}")
+    cfg = params.acquire
+    docs = climb_all(params, specs, out / CLIMBS, cfg.workers if workers is None else workers)
+    out_of: dict[str, Any] = {
+        n: {**d["summary"], "fall": d["fall"], "error": d["error"]} for n, d in docs.items()
+    }
+    skipped = {n: "; ".join(breaks[n][:2]) for n in trajectories if n not in runnable}
+    if skipped:
+        out_of["not_climbed"] = skipped
+    return out_of
+
+
+def _climb_figures(out: Path, climbed: Mapping[str, Any]) -> dict[str, str]:
+    """The optimum's climb, as traces and from the side, for the report."""
+    if "optimum" not in climbed:
+        return {}
+    return {
+        "climb_traces": read_figure(out / CLIMBS / "optimum.png"),
+        "climb_side": read_figure(out / CLIMBS / "optimum_side.png"),
+    }
 
 
 def _job(
@@ -186,7 +234,8 @@ def _log(mlflow, params: Params, summary: dict, paths: Paths) -> None:
 
 
 def run_metrics(summary: dict) -> dict[str, float]:
-    """``table.<row>.<column>`` (Table I analogue), ``fidelity.<objective>.<stat>`` and
+    """``table.<row>.<column>`` (Table I analogue), ``fidelity.<objective>.<stat>``,
+    ``climb.<trajectory>.<figure>`` (the climbing robot; ``fell`` as 0 or 1) and
     ``time.seconds``."""
     name = tracking.metric_name
     out = {
@@ -197,5 +246,13 @@ def run_metrics(summary: dict) -> dict[str, float]:
     }
     for objective, values in summary["fidelity"].items():
         out.update({name("fidelity", objective, k): v for k, v in values.items()})
+    for trajectory, climbed in summary.get("climb", {}).items():
+        out.update(
+            {
+                name("climb", trajectory, k): float(v)
+                for k, v in climbed.items()
+                if isinstance(v, int | float) and v is not None
+            }
+        )
     out[name("time", "seconds")] = summary["seconds"]
     return tracking.finite(out)

@@ -15,6 +15,7 @@ from ftfof.evaluate.step_check import CHECKED
 from ftfof.evaluate.table import COLUMNS, PEAKS, TableRow
 from ftfof.optimize.polish import POLISH
 from ftfof.optimize.select import FRONT
+from ftfof.report.climb import climb_rows
 from ftfof.report.evaluation import (
     choice_figure,
     fidelity_figure,
@@ -92,10 +93,15 @@ def _choice_figure(
 
 
 def report_context(
-    ev: Evaluation, ctx: RobotContext, inputs: Inputs, surface: str, reference: str
+    ev: Evaluation,
+    ctx: RobotContext,
+    inputs: Inputs,
+    surface: str,
+    reference: str,
+    climb_steps: int = 0,
 ) -> dict[str, Any]:
     """The report template's values and the figures drawn from the simulations, but for the
-    stages' own figures and the export path."""
+    stages' own figures and the export path (``climb_steps``: the climbs' planned steps)."""
     import exudyn
 
     summary, rows, fid, predicted, simulated = (
@@ -157,6 +163,14 @@ def report_context(
             {"trajectory": r.trajectory, "values": r.values, "change": r.change} for r in rows
         ],
         "paper": summary["paper_optimal_change_vs_polynomial"],
+        "climb": climb_rows(
+            summary.get("climb", {}),
+            rows,
+            climb_steps,
+            ctx.robot.published_optimum is not None,
+        ),
+        "climb_skipped": summary.get("climb", {}).get("not_climbed", {}),
+        "climb_steps": climb_steps,
         "fidelity": [{"objective": f.objective, **f.as_dict()} for f in fid],
         "front_points": len(predicted) - 1,
         "objectives": inputs.objectives,

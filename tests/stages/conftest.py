@@ -26,6 +26,7 @@ def refined_tiny(trained, tmp_path_factory):
     data["evaluate"] = {**data["evaluate"], "front_points": 2, "export_rate_hz": 200}
     data["refine"] = {**data["refine"], "rounds": 0}
     data["acquire"] = {**data["acquire"], "workers": 2}
+    data["climb"] = {**data.get("climb", {}), "steps": 1}  # evaluate climbs: one swing each
     work = tmp_path_factory.mktemp("evaluate")
     params = write_params(work / "params.yaml", data)
     figures = work / "figures"

@@ -27,9 +27,9 @@ def test_report_is_self_contained_and_every_image_decodes(evaluated):
     html = (work / "report.html").read_text()
     assert not re.search(r"(?:https?:)?//[a-z0-9.-]+\.[a-z]{2,}", html, re.I), "external URL"
     sources = re.findall(r"""<img[^>]+src=["']([^"']+)["']""", html)
-    # paths (in the run-this box and with the figures), forces, jitter, the choice, fidelity,
-    # refinement, 3 Pareto, 2 training
-    assert len(sources) == 12
+    # paths (in the run-this box and with the figures), forces, jitter, the climb's traces and
+    # side view, the choice, fidelity, refinement, 3 Pareto, 2 training
+    assert len(sources) == 14
     for src in sources:
         assert src.startswith("data:image/png;base64,")
         image = Image.open(io.BytesIO(base64.b64decode(src.split(",", 1)[1])))
@@ -40,6 +40,24 @@ def test_report_is_self_contained_and_every_image_decodes(evaluated):
     assert "How the optimum was chosen" in html
     chosen = json.loads((work / "metrics.json").read_text())["optimum_front_row"]
     assert f"<td>{chosen} (optimum)</td>" in html  # in the choice's table and the front's
+
+
+def test_the_climbing_robot_climbs_table_ones_trajectories(evaluated):
+    """One swing each (the fixture's climb.steps): every Table I trajectory the robot can run is
+    climbed, its figures in metrics.json, its row and the optimum's traces in the report."""
+    work, *_ = evaluated
+    metrics = json.loads((work / "metrics.json").read_text())
+    climbed = metrics["climb"]
+    assert set(climbed) == set(ROWS)  # MST-M3F can run every one of them
+    for name in ROWS:
+        c = climbed[name]
+        assert c["steps_done"] == 1 and c["fell"] is False and c["error"] == ""
+        assert 0 < c["jitter"] <= c["jitter_step"] and c["peak_pull"] > 1.0
+    written = {p.name for p in (work / "sims" / "climb").glob("*.json")}
+    assert written == {f"{n}.json" for n in ROWS} | {"manifest.json"}
+    html = (work / "report.html").read_text()
+    assert "<h2>The climbing robot</h2>" in html and "1 of 1" in html
+    assert "FTFOF Table I [m/s²]" in html and "<td>327.3</td>" in html
 
 
 def test_the_choice_is_among_the_polished_candidates_as_the_simulator_measured_them(evaluated):

@@ -73,3 +73,18 @@ def sagittal_chain(
     )
     torques = np.array([torque_limits[1], torque_limits[2], np.inf])
     return SagittalChain(leg, torques, offset, (1, 2, -1))
+
+
+def stroke_breach(chain: SagittalChain, stride: float, samples: int = 50) -> str:
+    """ "" when every leg reaches its stance stroke, P0 to P15 along the wall (``stride`` long),
+    within its joint ranges; else where it leaves them (for a message)."""
+    x = np.linspace(0.0, stride, samples)
+    theta = chain.leg.inverse(np.stack([x, np.zeros_like(x)], axis=1))
+    limits = chain.leg.joint_limits
+    inside = np.isfinite(theta).all(axis=1) & np.all(
+        (theta >= limits[:, 0]) & (theta <= limits[:, 1]), axis=1
+    )
+    if inside.all():
+        return ""
+    at = 1e3 * x[np.argmin(inside)]
+    return f"every leg's stance stroke leaves its joint range {at:.0f} mm along the wall"

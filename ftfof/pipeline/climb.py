@@ -17,6 +17,7 @@ import pyarrow as pa
 from matplotlib.figure import Figure
 
 from ftfof.climb.imu import ImuModel, imu_channels
+from ftfof.climb.legs import stroke_breach
 from ftfof.climb.metrics import StepMetrics, as_rows, step_metrics, summary
 from ftfof.climb.model import ClimbSpec
 from ftfof.climb.simulate import ClimbRun, chain_of, climb
@@ -59,7 +60,7 @@ def climb_spec(
     failed = (
         ctx.policy.check(X).failed(0) if X is not None else ctx.policy.path_failures(trajectory)
     )
-    stroke = _stroke_breach(params)
+    stroke = stroke_breach(chain_of(robot), robot.landing.x)
     if stroke:
         raise ParamsError(name, stroke)
     if failed and not allow_infeasible:
@@ -133,22 +134,6 @@ def read_document(out_dir: Path, name: str) -> dict[str, Any]:
 def _ignore_interrupts() -> None:
     """Workers leave Ctrl-C to the parent (as the acquisition's pool does)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-
-
-def _stroke_breach(params: Params) -> str:
-    """Whether every leg reaches its stance stroke, P0 to P15 along the wall, within its joints."""
-    robot = params.selected_robot
-    chain = chain_of(robot)
-    x = np.linspace(0.0, robot.landing.x, 50)
-    theta = chain.leg.inverse(np.stack([x, np.zeros_like(x)], axis=1))
-    limits = chain.leg.joint_limits
-    bad = ~np.isfinite(theta).all(axis=1) | ~np.all(
-        (theta >= limits[:, 0]) & (theta <= limits[:, 1]), axis=1
-    )
-    if bad.any():
-        at = 1e3 * x[np.argmax(bad)]
-        return f"every leg's stance stroke leaves its joint range {at:.0f} mm along the wall"
-    return ""
 
 
 def run_climb(params: Params, spec: ClimbSpec) -> Climbed:

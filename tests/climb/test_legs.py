@@ -33,3 +33,16 @@ def test_a_spatial_leg_keeps_its_pitch_and_knee_angles(mst_q):
     assert mapped[:, 1] == pytest.approx(theta[:, 2])
     assert chain.leg.forward(mapped) == pytest.approx(p, abs=1e-12)
     assert chain.torque_limits[:2] == pytest.approx([2.0, 3.0]) and np.isinf(chain.torque_limits[2])
+
+
+def test_the_stance_stroke_is_checked_against_the_joint_ranges(m3f, mst_q):
+    from ftfof.climb.legs import stroke_breach
+
+    foot = m3f.robot.platform.foot
+    chain = sagittal_chain(m3f.robot.leg, (1.0, 1.0, 1.0), foot.ankle_height)
+    assert stroke_breach(chain, m3f.robot.landing.x) == ""
+    ahead = mst_q.robot.leg.model_copy(
+        update={"hip": mst_q.robot.leg.hip.model_copy(update={"x": 0.02})}
+    )
+    chain = sagittal_chain(ahead, (1.0, 1.0, 1.0), foot.ankle_height)
+    assert stroke_breach(chain, mst_q.robot.landing.x).endswith("joint range 0 mm along the wall")

@@ -133,3 +133,25 @@ def test_the_sole_spreads_the_landing_press_so_the_whole_pad_bonds_again(params,
         assert landed == c["bonds"][0, leg]
     else:
         assert 0 < landed < 0.3 * c["bonds"][0, leg]
+
+
+def test_a_crawl_whose_landings_lay_the_whole_pad_climbs_eight_step_lengths(params):
+    """The ε-Bezier lands hard (12-17 N): every landing re-bonds all of its pad, fore feet
+    included, and the crawl climbs its 8 steps (decision 0019: the gentler landings of the other
+    common trajectories re-bond the fore pads in part and fall in step 3)."""
+    run = climb(spec_of(params, "eps_bezier"))
+    assert run.ok and not run.fell, run.fall_reason
+    c = run.channels
+    assert c["body"][-1, 0] == pytest.approx(run.gait.steps * run.gait.advance, rel=0.1)
+    for k in range(run.gait.steps):  # after each landing hold, the landed pad holds whole
+        held = c["t"] >= run.gait.lift_off(k) + run.gait.swing + run.gait.hold
+        assert c["bonds"][np.argmax(held), run.gait.leg_of(k)] == c["bonds"][0, 0]
+
+
+def test_a_gentle_landing_bonds_the_fore_pad_in_part_and_the_crawl_falls(params):
+    run = climb(spec_of(params, "polynomial"))
+    c = run.channels
+    fore = run.gait.leg_of(1)  # the first fore foot to swing
+    held = c["t"] >= run.gait.lift_off(1) + run.gait.swing + run.gait.hold
+    assert 0 < c["bonds"][np.argmax(held), fore] < 0.5 * c["bonds"][0, fore]
+    assert run.fell and run.ok and "let go" in run.fall_reason

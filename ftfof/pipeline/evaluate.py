@@ -139,12 +139,21 @@ def _climbs(
     cfg = params.acquire
     docs = climb_all(params, specs, out / CLIMBS, cfg.workers if workers is None else workers)
     out_of: dict[str, Any] = {
-        n: {**d["summary"], "fall": d["fall"], "error": d["error"]} for n, d in docs.items()
+        n: {**_rounded(d["summary"]), "fall": d["fall"], "error": d["error"]}
+        for n, d in docs.items()
     }
     skipped = {n: "; ".join(breaks[n][:2]) for n in trajectories if n not in runnable}
     if skipped:
         out_of["not_climbed"] = skipped
     return out_of
+
+
+def _rounded(figures: Mapping[str, Any]) -> dict[str, Any]:
+    """Figures to four decimals, as Table I's (flags and missing values as they are)."""
+    return {
+        k: round(v, 4) if isinstance(v, float) and not isinstance(v, bool) else v
+        for k, v in figures.items()
+    }
 
 
 def _climb_figures(out: Path, climbed: Mapping[str, Any]) -> dict[str, str]:

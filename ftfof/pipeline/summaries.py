@@ -148,11 +148,15 @@ EVALUATED = (  # Table I's figures of the optimum, each with its change against 
 
 def evaluate(report: Report) -> dict[str, Any]:
     """The reference, and the optimum's Table I figures with their changes against it (what
-    `ftfof sweep` prints), the model that produced it and the stage's time."""
+    `ftfof sweep` prints), its climb on the climbing robot, the model that produced it and the
+    stage's time."""
     row = report.get("table", {}).get("optimum", {})
     optimum: dict[str, Any] = {}
     for name in EVALUATED:
         optimum.update(_keys(row, name, f"{name}_change"))
+    climbed = _keys(report.get("climb", {}).get("optimum", {}), "jitter", "steps_done", "fell")
+    if climbed:
+        optimum["climb"] = climbed
     out = _keys(report, "reference", "optimum_origin", "optimum_front_row")
     return {**out, "optimum": optimum, **_keys(report, "seconds")}
 

@@ -8,7 +8,14 @@ from typing import Annotated
 import typer
 
 from ftfof.pipeline import catalog
-from stages.common import ParamsOption, console, stage
+from stages.common import (
+    BaselineOption,
+    ParamsOption,
+    PointsOption,
+    UnitOption,
+    console,
+    stage,
+)
 
 OPTIMIZE = catalog.path("polish_optimize")
 OUT_DIR = catalog.path("climbs")
@@ -17,14 +24,9 @@ OUT_DIR = catalog.path("climbs")
 @stage
 def command(
     params_path: Annotated[Path, ParamsOption] = Path("params.yaml"),
-    baseline: Annotated[
-        str | None, typer.Option(help="polynomial | cycloidal | random_bezier | eps_bezier.")
-    ] = None,
-    points: Annotated[
-        str | None,
-        typer.Option(help="12 control values P3x..P12x, P3z..P12z, comma-separated."),
-    ] = None,
-    unit: Annotated[str, typer.Option(help="Unit of --points: m or mm.")] = "m",
+    baseline: Annotated[str | None, BaselineOption] = None,
+    points: Annotated[str | None, PointsOption] = None,
+    unit: Annotated[str, UnitOption] = "m",
     row: Annotated[int | None, typer.Option(help="A row of the front (--optimize).")] = None,
     optimum: Annotated[bool, typer.Option(help="The chosen optimum (--optimize).")] = False,
     optimize: Annotated[Path, typer.Option(help="The optimum and its front.")] = OPTIMIZE,

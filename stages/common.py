@@ -20,12 +20,24 @@ from ftfof.errors import FtfofError
 from ftfof.pipeline import catalog, interrupt
 from ftfof.pipeline.console import console, progress
 
-__all__ = ["ParamsOption", "console", "progress", "stage"]
+__all__ = [
+    "BaselineOption",
+    "ParamsOption",
+    "PointsOption",
+    "UnitOption",
+    "console",
+    "progress",
+    "stage",
+]
 
 P = ParamSpec("P")
 R = TypeVar("R")
 
 ParamsOption = typer.Option("--params", "-p", help="Parameter file.", dir_okay=False)
+# a trajectory named on the command line (simulate, export, climb)
+BaselineOption = typer.Option(help="polynomial | cycloidal | random_bezier | eps_bezier.")
+PointsOption = typer.Option(help="12 control values P3x..P12x, P3z..P12z, comma-separated.")
+UnitOption = typer.Option(help="Unit of --points: m or mm.")
 
 # what an interrupted command keeps, and where under its --out (by default its catalog path):
 # the resumable ones go on from it when run again

@@ -9,7 +9,14 @@ from typing import Annotated
 import typer
 
 from ftfof.pipeline import catalog
-from stages.common import ParamsOption, console, stage
+from stages.common import (
+    BaselineOption,
+    ParamsOption,
+    PointsOption,
+    UnitOption,
+    console,
+    stage,
+)
 
 OPTIMIZE = catalog.path("polish_optimize")
 METRICS = catalog.path("metrics")
@@ -23,14 +30,9 @@ def command(
     row: Annotated[
         int | None, typer.Option(help="A row of the front (--optimize); default: the optimum.")
     ] = None,
-    baseline: Annotated[
-        str | None, typer.Option(help="polynomial | cycloidal | random_bezier | eps_bezier.")
-    ] = None,
-    points: Annotated[
-        str | None,
-        typer.Option(help="12 control values P3x..P12x, P3z..P12z, comma-separated."),
-    ] = None,
-    unit: Annotated[str, typer.Option(help="Unit of --points: m or mm.")] = "m",
+    baseline: Annotated[str | None, BaselineOption] = None,
+    points: Annotated[str | None, PointsOption] = None,
+    unit: Annotated[str, UnitOption] = "m",
     optimize: Annotated[Path, typer.Option(help="The optimum and its front.")] = OPTIMIZE,
     metrics: Annotated[
         Path, typer.Option(help="evaluate's metrics (simulated figures).")

@@ -9,7 +9,14 @@ import typer
 
 from ftfof.files import atomic_path, save_figure
 from ftfof.pipeline import catalog
-from stages.common import ParamsOption, console, stage
+from stages.common import (
+    BaselineOption,
+    ParamsOption,
+    PointsOption,
+    UnitOption,
+    console,
+    stage,
+)
 
 OUT_DIR = catalog.path("simulate")
 TRAJECTORIES = catalog.path("trajectories")
@@ -18,16 +25,11 @@ TRAJECTORIES = catalog.path("trajectories")
 @stage
 def command(
     params_path: Annotated[Path, ParamsOption] = Path("params.yaml"),
-    points: Annotated[
-        str | None,
-        typer.Option(help="12 control values P3x..P12x, P3z..P12z, comma-separated."),
-    ] = None,
-    unit: Annotated[str, typer.Option(help="Unit of --points: m or mm.")] = "m",
+    points: Annotated[str | None, PointsOption] = None,
+    unit: Annotated[str, UnitOption] = "m",
     row: Annotated[int | None, typer.Option(help="A row of --trajectories.")] = None,
     trajectories: Annotated[Path, typer.Option(help="Table for --row.")] = TRAJECTORIES,
-    baseline: Annotated[
-        str | None, typer.Option(help="polynomial | cycloidal | random_bezier | eps_bezier.")
-    ] = None,
+    baseline: Annotated[str | None, BaselineOption] = None,
     out_dir: Annotated[Path, typer.Option(help="Where the CSV and PNG go.")] = OUT_DIR,
     allow_infeasible: Annotated[
         bool,

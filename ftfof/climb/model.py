@@ -34,7 +34,6 @@ from exudyn.itemInterface import (
     MarkerNodePosition,
     MarkerNodeRigid,
     MassPoint2D,
-    NodeGenericODE2,
     NodePoint2D,
     NodePointGround,
     NodeRigidBody2D,
@@ -48,8 +47,8 @@ import ftfof.config as config
 from ftfof.climb.gait import LEGS, Gait
 from ftfof.climb.legs import SagittalChain
 from ftfof.sim.bonds import BondLaw
-from ftfof.sim.joint_leg import ATTACH_DAMPING, ATTACH_STIFFNESS, SERVO_LINK_MASS
-from ftfof.sim.pad import add_bonds, add_film, add_sole
+from ftfof.sim.joint_leg import ATTACH_DAMPING, ATTACH_STIFFNESS, SERVO_LINK_MASS, tree_node
+from ftfof.sim.pad import add_bonds, add_film, add_sole, film_grid
 from ftfof.sim.padstate import PadParts
 from ftfof.trajectory.piecewise import PiecewiseQuintic
 
@@ -125,10 +124,7 @@ def build(spec: ClimbSpec, chain: SagittalChain, gait: Gait, law: BondLaw) -> Cl
     pad = robot.foot.pad_length
     sc = exu.SystemContainer()
     mbs = sc.AddSystem()
-    x_ref = np.linspace(0.0, pad, n + 1)
-    dx = pad / n
-    area = np.full(n + 1, film.width * dx)
-    area[[0, -1]] /= 2
+    x_ref, dx, area = film_grid(pad, n, film.width)
     gravity = (-config.GRAVITY, 0.0)
     ground = mbs.AddNode(NodePointGround())
     g0 = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=ground, coordinate=0))
@@ -258,14 +254,7 @@ def _tree(
     l1, l2 = chain.links
     kp, kd = mech.joint_gains
     n = len(q0)
-    node = mbs.AddNode(
-        NodeGenericODE2(
-            numberOfODE2Coordinates=n,
-            referenceCoordinates=[0.0] * n,
-            initialCoordinates=q0.tolist(),
-            initialCoordinates_t=[0.0] * n,
-        )
-    )
+    node = tree_node(mbs, q0)
     zero = [0.0, 0.0, 0.0]
     types = [exu.JointType.PrismaticX, exu.JointType.PrismaticY, exu.JointType.RevoluteZ]
     parents = [-1, 0, 1]

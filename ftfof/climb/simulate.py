@@ -6,7 +6,6 @@ a non-finite state makes the climb ``failed`` with the message, never an excepti
 
 from __future__ import annotations
 
-import math
 import time
 from dataclasses import dataclass, field
 
@@ -20,6 +19,7 @@ from ftfof.climb.legs import SagittalChain, sagittal_chain
 from ftfof.climb.loop import ClimbLoop, channel_slices
 from ftfof.climb.model import Climber, ClimbSpec, build
 from ftfof.sim.bonds import BondLaw
+from ftfof.sim.settings import solver_settings
 
 Array = NDArray[np.float64]
 
@@ -69,25 +69,6 @@ def gait_of(spec: ClimbSpec) -> Gait:
     )
 
 
-def _settings(spec: ClimbSpec, end: float, rate: float) -> exu.SimulationSettings:
-    s = exu.SimulationSettings()
-    sol = spec.solver
-    ti = s.timeIntegration
-    ti.endTime = end
-    ti.numberOfSteps = math.ceil(end / sol.step)
-    ti.newton.relativeTolerance = sol.tolerance
-    ti.newton.absoluteTolerance = sol.tolerance
-    ti.generalizedAlpha.spectralRadius = sol.spectral_radius
-    ti.adaptiveStep = True
-    ti.verboseMode = 0
-    s.linearSolver.solverType = exu.LinearSolverType.EigenSparse
-    s.solution.file.write = False
-    s.solution.sensors.writePeriod = 1.0 / rate
-    s.show.computationTime = False
-    s.show.statistics = False
-    return s
-
-
 def climb(spec: ClimbSpec, duration: float | None = None) -> ClimbRun:
     """Run one climb (``duration``: stop early, for tests and benchmarks)."""
     exu.config.printToConsole = False
@@ -103,7 +84,7 @@ def climb(spec: ClimbSpec, duration: float | None = None) -> ClimbRun:
     end = gait.end if duration is None else duration
     error = ""
     try:
-        solver.SolveSystem(model.mbs, _settings(spec, end, rate))
+        solver.SolveSystem(model.mbs, solver_settings(spec.solver, end, spec.solver.step, rate))
     except exu.ExudynError as err:
         lines = str(err).strip().splitlines()
         error = f"{type(err).__name__}: {lines[-1] if lines else err}"

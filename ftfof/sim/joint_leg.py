@@ -33,6 +33,19 @@ ATTACH_DAMPING = 20.0
 SERVO_LINK_MASS = 0.005  # kg, the ankle servo's output flange
 
 
+def tree_node(mbs: Any, q0: np.ndarray) -> Any:
+    """The node of a KinematicTree's joint coordinates, starting at ``q0`` at rest."""
+    n = len(q0)
+    return mbs.AddNode(
+        NodeGenericODE2(
+            numberOfODE2Coordinates=n,
+            referenceCoordinates=[0.0] * n,
+            initialCoordinates=q0.tolist(),
+            initialCoordinates_t=[0.0] * n,
+        )
+    )
+
+
 def attach_joint_leg(p: Any, foot_node: Any, g0: Any) -> Any:
     """Build the tree, attach the foot, register the per-step target update; returns the IMU."""
     spec = p.spec
@@ -58,14 +71,7 @@ def attach_joint_leg(p: Any, foot_node: Any, g0: Any) -> Any:
         raise SimulationError(spec.key, "the start pose is outside the leg's reach")
     n = 5
     q0 = np.concatenate([[0.0, 0.0], theta0])
-    node = mbs.AddNode(
-        NodeGenericODE2(
-            numberOfODE2Coordinates=n,
-            referenceCoordinates=[0.0] * n,
-            initialCoordinates=q0.tolist(),
-            initialCoordinates_t=[0.0] * n,
-        )
-    )
+    node = tree_node(mbs, q0)
     eye = np.eye(3).tolist()
     zero = [0.0, 0.0, 0.0]
     inertia = (

@@ -41,7 +41,7 @@ from exudyn.itemInterface import (
 from ftfof.config import GRAVITY
 from ftfof.sim import film as film_shape
 from ftfof.sim.bonds import BondLaw
-from ftfof.sim.pad import add_bonds, add_film
+from ftfof.sim.pad import add_bonds, add_film, film_grid
 from ftfof.sim.padstate import PadParts
 from ftfof.sim.spec import SampleSpec
 
@@ -118,10 +118,7 @@ def build(spec: SampleSpec, law: BondLaw) -> Platform:
     pad = spec.pad_length
     sc = exu.SystemContainer()
     mbs = sc.AddSystem()
-    x_ref = np.linspace(0.0, pad, n + 1)
-    dx = pad / n
-    area = np.full(n + 1, film.width * dx)
-    area[[0, -1]] /= 2
+    x_ref, dx, area = film_grid(pad, n, film.width)
     ground = mbs.AddNode(NodePointGround())
     g0 = _coord(mbs, ground, 0)
 

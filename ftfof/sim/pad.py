@@ -36,6 +36,28 @@ esym = exu.symbolic
 Real = esym.Real
 
 
+def film_grid(
+    pad_length: float, elements: int, width: float
+) -> tuple[np.ndarray, float, np.ndarray]:
+    """The film's node positions along the pad, its element length and each node's pad area
+    (half at the two ends)."""
+    x_ref = np.linspace(0.0, pad_length, elements + 1)
+    dx = pad_length / elements
+    area = np.full(elements + 1, width * dx)
+    area[[0, -1]] /= 2
+    return x_ref, dx, area
+
+
+def _shared_law(mbs: Any, connectors: list[Any], law: Any) -> Any:
+    """One symbolic spring-force law set on every connector; it must outlive the solve."""
+    shared = CreateSymbolicUserFunction(
+        mbs, law, "springForceUserFunction", itemTypeName="ObjectConnectorCartesianSpringDamper"
+    )
+    for obj in connectors:
+        mbs.SetObjectParameter(obj, "springForceUserFunction", shared)
+    return shared
+
+
 def add_film(
     mbs: Any,
     film: FilmMechanics,
@@ -141,7 +163,6 @@ def add_sole(
         return [0, contact_pressure(-u[1], -v[1], k[1], w, hc, esym.max, esym.min), 0]
 
     connectors: list[Any] = []
-    shared = None
     for i in np.flatnonzero((x_ref > grip + 1e-9) & (x_ref <= sole_length + 1e-9)):
         on_foot = mbs.AddMarker(
             MarkerBodyPosition(bodyNumber=foot_body, localPosition=[x_ref[i], -ankle_height, 0.0])
@@ -157,16 +178,8 @@ def add_sole(
                 activeConnector=False,
             )
         )
-        if shared is None:
-            shared = CreateSymbolicUserFunction(
-                mbs,
-                sole_force,
-                "springForceUserFunction",
-                itemTypeName="ObjectConnectorCartesianSpringDamper",
-            )
-        mbs.SetObjectParameter(obj, "springForceUserFunction", shared)
         connectors.append(obj)
-    return connectors, shared
+    return connectors, _shared_law(mbs, connectors, sole_force)
 
 
 def add_bonds(
@@ -191,7 +204,6 @@ def add_bonds(
 
     phi0 = float(law.preload_factor(initial_pressure))
     connectors: list[Any] = []
-    shared = None
     for i, node in enumerate(film_nodes):
         obj = mbs.AddObject(
             CartesianSpringDamper(
@@ -205,13 +217,5 @@ def add_bonds(
                 offset=[x_ref[i], 0.0, 0.0],
             )
         )
-        if shared is None:
-            shared = CreateSymbolicUserFunction(
-                mbs,
-                bond_force,
-                "springForceUserFunction",
-                itemTypeName="ObjectConnectorCartesianSpringDamper",
-            )
-        mbs.SetObjectParameter(obj, "springForceUserFunction", shared)
         connectors.append(obj)
-    return connectors, shared
+    return connectors, _shared_law(mbs, connectors, bond_force)

@@ -22,28 +22,16 @@ from ftfof.sim import bonds, film
 from ftfof.sim.model import Platform, build
 from ftfof.sim.prestep import PreStep
 from ftfof.sim.records import FailureReason, SampleResult, Status, force_peaks
+from ftfof.sim.settings import solver_settings
 from ftfof.sim.spec import SampleSpec
 
 Array = NDArray[np.float64]
 
 
 def _settings(spec: SampleSpec) -> exu.SimulationSettings:
-    s = exu.SimulationSettings()
-    sol = spec.solver
-    ti = s.timeIntegration
-    ti.endTime = spec.end_time
-    ti.numberOfSteps = math.ceil(spec.end_time / sol.free_step)
-    ti.newton.relativeTolerance = sol.tolerance
-    ti.newton.absoluteTolerance = sol.tolerance
-    ti.generalizedAlpha.spectralRadius = sol.spectral_radius
-    ti.adaptiveStep = True
-    ti.verboseMode = 0
-    s.linearSolver.solverType = exu.LinearSolverType.EigenSparse
-    s.solution.file.write = False
-    s.solution.sensors.writePeriod = 1.0 / spec.platform.sensor.rate_hz
-    s.show.computationTime = False
-    s.show.statistics = False
-    return s
+    return solver_settings(
+        spec.solver, spec.end_time, spec.solver.free_step, spec.platform.sensor.rate_hz
+    )
 
 
 def simulate(spec: SampleSpec, idle_bonds: bool = True) -> SampleResult:

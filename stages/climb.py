@@ -64,7 +64,8 @@ def command(
         f"{name}: {state}; {int(s['steps_done'])} of {spec.climb.steps} steps in"
         f" {run.wall_time:.1f} s -> {paths['metrics']}"
     )
-    for key in ("jitter", "jitter_step", "peak_pull", "slip", "min_bend_radius", "pitch_range"):
+    figures = ("jitter", "jitter_step", "peak_pull", "slip", "min_bend_radius", "pitch_range")
+    for key in (*figures, "torque_ratio"):
         console.print(f"  {key:16s} {s[key]:10.4g}")
     if run.error:
         raise typer.Exit(1)

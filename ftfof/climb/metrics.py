@@ -10,6 +10,8 @@ platform's shape, so the platform's definitions apply unchanged (:mod:`ftfof.dat
 - ``slip``: how far each stance foot moved along the wall over the step, the largest;
 - ``min_bend_radius``: the swinging film's tightest free-span bend;
 - ``pitch_range``: the trunk's pitch, max - min;
+- ``torque_ratio``: the largest servo torque over its limit, any leg and joint (over 1: the
+  servos could not have held the plan), and ``torque``, which joint and how much;
 - ``release``: the platform's release verdict (:func:`ftfof.data.release.release_fault`).
 """
 
@@ -22,10 +24,21 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ftfof.climb.gait import LEGS, Gait
+from ftfof.config import LEG_NAMES
 from ftfof.data.release import release_fault
 from ftfof.data.targets import full_rate
 
 Array = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class StepRules:
+    """The robot's thresholds a step is read against."""
+
+    switch_height: float  # m: the pad counts as let go once clear of the wall this far
+    clearance: float  # m: the robot's swing clearance (the release verdict)
+    landing_start: float  # s: T2, where the trajectory's landing segment starts
+    torque_limits: Array  # (3,) N m per chain joint (inf: a virtual joint)
 
 
 @dataclass(frozen=True)
@@ -39,6 +52,8 @@ class StepMetrics:
     slip: float  # m
     min_bend_radius: float  # m (inf: the film never bent in a free span)
     pitch_range: float  # rad
+    torque_ratio: float  # the largest |torque| / limit over every leg's joints
+    torque: str  # "" within the limits, else the joint and its torque
     release: str  # "" for a clean release, else what went wrong
     complete: bool  # the step ran to its end (no fall, no stop before it)
 
@@ -69,15 +84,12 @@ def step_metrics(
     imu: dict[str, Array],
     gait: Gait,
     step: int,
-    switch_height: float,
-    clearance: float,
-    landing_start: float,
+    rules: StepRules,
 ) -> StepMetrics:
-    """One step's figures from the climb's channels and its IMU (``clearance``: the robot's
-    swing clearance; ``landing_start``: T2, where the trajectory's landing segment starts)."""
+    """One step's figures from the climb's channels and its IMU."""
     leg = gait.leg_of(step)
     t0 = gait.lift_off(step)
-    ch = step_channels(c, gait, step, switch_height)
+    ch = step_channels(c, gait, step, rules.switch_height)
     t = ch["t"]
     complete = bool(t.size and t[-1] >= gait.period - 2.0 / max(len(c["t"]) / c["t"][-1], 1.0))
     on_imu = (imu["t"] >= t0) & (imu["t"] < t0 + gait.period)
@@ -109,11 +121,30 @@ def step_metrics(
             ch["bonds"],
             switch_time,
             float(np.max(ch["film_clearance"], initial=0.0)),
-            clearance,
-            landing_start,
+            rules.clearance,
+            rules.landing_start,
         ),
+        **_torque(c["torque"][inside], rules.torque_limits),
         complete=complete,
     )
+
+
+def _torque(torque: Array, limits: Array) -> dict[str, float | str]:
+    """The step's largest servo torque against its limit: (T, 4 legs x 3 joints) torques."""
+    if torque.size == 0:
+        return {"torque_ratio": 0.0, "torque": ""}
+    ratio = np.abs(torque) / np.tile(limits, LEGS)
+    worst = int(np.argmax(np.max(ratio, axis=0)))
+    peak = float(np.max(ratio[:, worst]))
+    leg, joint = divmod(worst, 3)
+    if peak <= 1.0:
+        return {"torque_ratio": peak, "torque": ""}
+    need = float(np.max(np.abs(torque[:, worst])))
+    return {
+        "torque_ratio": peak,
+        "torque": f"{LEG_NAMES[leg]}{joint + 1} needs {need:.2f} N m, past its"
+        f" {limits[joint]:.2f} N m",
+    }
 
 
 def summary(steps: list[StepMetrics], fell: bool) -> dict[str, float | bool]:
@@ -133,6 +164,7 @@ def summary(steps: list[StepMetrics], fell: bool) -> dict[str, float | bool]:
         "slip": worst("slip"),
         "min_bend_radius": worst("min_bend_radius", best=True),
         "pitch_range": worst("pitch_range"),
+        "torque_ratio": worst("torque_ratio"),
         "steps_done": float(len(done)),
         "fell": fell,
     }

@@ -18,7 +18,7 @@ from matplotlib.figure import Figure
 
 from ftfof.climb.imu import ImuModel, imu_channels
 from ftfof.climb.legs import stroke_breach
-from ftfof.climb.metrics import StepMetrics, as_rows, step_metrics, summary
+from ftfof.climb.metrics import StepMetrics, StepRules, as_rows, step_metrics, summary
 from ftfof.climb.model import ClimbSpec
 from ftfof.climb.simulate import ClimbRun, chain_of, climb
 from ftfof.config import LEG_NAMES, Params
@@ -148,16 +148,14 @@ def run_climb(params: Params, spec: ClimbSpec) -> Climbed:
                        model, spec.seed)  # fmt: skip
     robot = spec.robot
     reached = c["t"][-1] if c["t"].size else 0.0
+    rules = StepRules(
+        params.platform.protocol.switch_height,
+        robot.foot.swing_clearance,
+        robot.timing.T2,
+        chain_of(robot).torque_limits,
+    )
     steps = [
-        step_metrics(
-            c,
-            imu,
-            run.gait,
-            k,
-            params.platform.protocol.switch_height,
-            robot.foot.swing_clearance,
-            robot.timing.T2,
-        )
+        step_metrics(c, imu, run.gait, k, rules)
         for k in range(spec.climb.steps)
         if run.gait.lift_off(k) < reached
     ]

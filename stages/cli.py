@@ -21,6 +21,7 @@ from stages import (
     refine,
     sample,
     simulate,
+    study,
     sweep,
     train,
 )
@@ -75,6 +76,7 @@ app.command("export")(export.command)
 app.command("climb")(climb.command)
 app.command("calibrate")(calibrate.command)
 app.command("sweep")(sweep.command)
+app.add_typer(study.app, name="study")
 
 
 def main() -> None:

@@ -29,6 +29,7 @@ RANKS = {
     "ftfof.surrogate": 7,
     "ftfof.optimize": 8,
     "ftfof.evaluate": 9,
+    "ftfof.study": 9,
     "ftfof.refine": 10,
     "ftfof.report": 10,
     "ftfof.pipeline": 11,

@@ -73,6 +73,8 @@ ARTEFACTS: dict[str, Artefact] = {
     "simulate": _a("reports/simulate", "simulation_plots", "simulate"),
     "exports": _a("reports/export", "controller_trajectory", "export"),
     "climbs": _a("reports/climb", "climb", "climb"),
+    "eps_study": _a("reports/eps_study.json", "json", "study eps"),
+    "eps_study_figure": _a("reports/eps_study.png", "png", "study eps"),
 }
 
 # format -> (its writer, its reader), as ``module:function``. The reader is None where no command

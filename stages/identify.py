@@ -11,7 +11,7 @@ import typer
 from ftfof.pipeline.catalog import path
 from stages.common import ParamsOption, console, stage
 
-REPORT, FIGURE = REPORT, path("identify_figure")
+REPORT, FIGURE = path("identify"), path("identify_figure")
 
 
 @stage

@@ -7,6 +7,7 @@ from typing import Annotated
 
 import typer
 
+from ftfof.pipeline.catalog import path as catalog_path
 from stages.common import ParamsOption, console, stage
 
 
@@ -23,7 +24,7 @@ def command(
     from ftfof.pipeline.params_file import load_params
 
     params = load_params(params_path)
-    path = out or Path("data/slip") / f"{surface}.csv"
+    path = out or catalog_path("slip_logs") / f"{surface}.csv"
     log = simulate_slip(params, surface)
     write_log(log, path)
     console.print(f"slip test on {surface}: {log.t.size} samples in {path}")

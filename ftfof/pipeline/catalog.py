@@ -70,6 +70,7 @@ ARTEFACTS: dict[str, Artefact] = {
     "evaluate_summary": _a("reports/summary/evaluate.json", "json", "evaluate"),
     "export": _a("reports/optimum_trajectory.csv", "csv", "evaluate"),
     "calibration": _a("reports/calibration.json", "json", "calibrate"),
+    "slip_logs": _a("data/slip", "csv", "slip-test"),
     "identify": _a("reports/identify.json", "json", "identify"),
     "identify_figure": _a("reports/identify.png", "png", "identify"),
     "simulate": _a("reports/simulate", "simulation_plots", "simulate"),

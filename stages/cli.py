@@ -14,6 +14,7 @@ from stages import (
     dataset,
     evaluate,
     export,
+    identify,
     import_logs,
     optimize,
     polish,
@@ -21,6 +22,7 @@ from stages import (
     refine,
     sample,
     simulate,
+    slip_test,
     study,
     sweep,
     train,
@@ -75,6 +77,8 @@ app.command("simulate")(simulate.command)
 app.command("export")(export.command)
 app.command("climb")(climb.command)
 app.command("calibrate")(calibrate.command)
+app.command("slip-test")(slip_test.command)
+app.command("identify")(identify.command)
 app.command("sweep")(sweep.command)
 app.add_typer(study.app, name="study")
 

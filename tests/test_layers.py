@@ -19,6 +19,7 @@ RANKS = {
     "ftfof.digests": 1,
     "ftfof.objectives": 1,
     "ftfof.kinematics": 1,
+    "ftfof.identify": 1,
     "ftfof.trajectory": 2,
     "ftfof.sim": 3,
     "ftfof.rules": 4,

@@ -103,18 +103,18 @@ class PreStep:
 
     def _press(self, t: float, q: Array, qd: Array) -> None:
         """Integral control of the press depth so the sensor reads the pre-pressure a."""
-        spec = self.p.spec
-        proto = spec.platform.protocol
+        proto = self.p.spec.platform.protocol
         s = min(max((t - proto.settle) / proto.press, 0.0), 1.0)
-        target = spec.pre_pressure * s * s * s * (10 - 15 * s + 6 * s * s)
-        sensor = spec.platform.sensor
-        compression = -(
-            sensor.stiffness * q[self.plate_index + 1] + sensor.damping * qd[self.plate_index + 1]
+        target = self.p.spec.pre_pressure * s * s * s * (10 - 15 * s + 6 * s * s)
+        self.press_integral = press_control(
+            self.p,
+            self.plate_index,
+            q,
+            qd,
+            self.solver.it.currentStepSize,
+            target,
+            self.press_integral,
         )
-        k = self.p.series_stiffness
-        h = self.solver.it.currentStepSize
-        self.press_integral += (target - compression) / k * min(h / PRESS_TIME_CONSTANT, 1.0)
-        self.p.press_depth.SetValue(target / k + self.press_integral)
 
     def _control_step(self, t: float, lam_max: float, lowest: float) -> None:
         detaching = self.t0 <= t <= self.t_land and lam_max > NEAR_BREAK
@@ -130,3 +130,16 @@ class PreStep:
             it.currentStepSize = solver.step if small else solver.free_step
         elif small and it.currentStepSize > solver.step:
             it.currentStepSize = solver.step
+
+
+def press_control(
+    p: Platform, plate_index: int, q: Array, qd: Array, h: float, target: float, integral: float
+) -> float:
+    """Set the press depth so the sensor reads ``target`` (N, compression positive) by integral
+    action on its error; returns the updated integral (the caller keeps it between steps)."""
+    sensor = p.spec.platform.sensor
+    compression = -(sensor.stiffness * q[plate_index + 1] + sensor.damping * qd[plate_index + 1])
+    k = p.series_stiffness
+    integral += (target - compression) / k * min(h / PRESS_TIME_CONSTANT, 1.0)
+    p.press_depth.SetValue(target / k + integral)
+    return integral

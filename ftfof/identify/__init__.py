@@ -1,0 +1,1 @@
+"""Friction and adhesion of a surface from a slip test's contact forces (climbing_slip §4)."""

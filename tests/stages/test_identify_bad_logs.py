@@ -1,0 +1,67 @@
+"""A bad slip log: one line naming file, row and column, a non-zero exit, nothing written."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+from typer.testing import CliRunner
+
+from stages.cli import app
+from tests.conftest import ROOT
+
+runner = CliRunner()
+
+
+def _log(n: int = 40) -> pd.DataFrame:
+    t = np.arange(2 * n) * 1e-3
+    load = np.repeat([0.0, 2.0], n)
+    ft = np.tile(np.r_[np.linspace(0, 9.9, n - 20), np.linspace(9.95, 10.0, 20)], 2) + 0.45 * load
+    return pd.DataFrame({"t": t, "Fx": ft, "Fz": -load, "load": load})
+
+
+@pytest.mark.parametrize(
+    ("spoil", "where"),
+    [
+        (lambda df: df.drop(columns="Fz"), "row 1, column 'Fz': missing"),
+        (lambda df: df.assign(t=np.r_[df.t[:10], df.t[9:-1]]), "row 12, column 't'"),
+        (lambda df: df.iloc[:25], "column 'Fx': "),
+    ],
+    ids=["missing column", "time backwards", "too few slip samples"],
+)
+def test_a_bad_slip_log_is_refused_naming_file_row_and_column(tmp_path, spoil, where):
+    path = tmp_path / "slip.csv"
+    spoil(_log()).to_csv(path, index=False)
+    report, figure = tmp_path / "identify.json", tmp_path / "identify.png"
+    args = ["identify", "--surface", "glass", "--log", str(path), "--params"]
+    args += [str(ROOT / "params.yaml"), "--report", str(report), "--figure", str(figure)]
+    result = runner.invoke(app, args)
+    assert result.exit_code != 0
+    assert str(path) in result.output and where in result.output
+    assert len(result.output.strip().splitlines()) == 1
+    assert not report.exists() and not figure.exists()
+
+
+def test_a_good_slip_log_is_identified(tmp_path):
+    path = tmp_path / "slip.csv"
+    _log().to_csv(path, index=False)
+    report = tmp_path / "identify.json"
+    args = ["identify", "--surface", "glass", "--log", str(path), "--params"]
+    args += [str(ROOT / "params.yaml"), "--report", str(report)]
+    args += ["--figure", str(tmp_path / "f.png")]
+    assert runner.invoke(app, args).exit_code == 0
+    assert report.exists()
+
+
+@pytest.mark.integration
+def test_identify_simulate_writes_the_round_trip_report(tmp_path):
+    report = tmp_path / "identify.json"
+    args = ["identify", "--surface", "glass", "--simulate", "--params", str(ROOT / "params.yaml")]
+    args += ["--report", str(report), "--figure", str(tmp_path / "f.png")]
+    assert runner.invoke(app, args).exit_code == 0
+    out = json.loads(report.read_text())
+    assert out["mu"]["truth"] == 0.45  # glass's preset
+    assert set(out["adhesion"]) == {"estimate", "truth", "least_squares"}
+    assert (tmp_path / "f.png").stat().st_size > 0

@@ -21,6 +21,7 @@ from numpy.typing import NDArray
 
 from ftfof.climb.gait import LEGS, min_jerk
 from ftfof.climb.model import BASE, JOINTS, Climber
+from ftfof.config import LEG_NAMES
 from ftfof.sim import film
 from ftfof.sim.padstate import PadTracker
 from ftfof.sim.prestep import PRESS_TIME_CONSTANT
@@ -259,7 +260,7 @@ class ClimbLoop:
             stance[swing] = False
         if t > self.r.gait.start and not held[stance].all():
             leg = int(np.flatnonzero(stance & ~held)[0])
-            self.fall = Fall(t, f"stance pad {leg} let go at t = {t:.3f} s")
+            self.fall = Fall(t, f"the {LEG_NAMES[leg]} stance pad let go at t = {t:.3f} s")
         plan, _ = self.r.gait.body(np.array([t]))
         b = self.tree
         off = math.hypot(q[b] - plan[0], q[b + 1])

@@ -8,7 +8,8 @@ platform's shape, so the platform's definitions apply unchanged (:mod:`ftfof.dat
 - ``jitter_step``: the IMU's peak over the whole step (swing, landing hold, advance);
 - ``peak_pull``: the swinging foot's peak pull on the wall while its pad holds;
 - ``slip``: how far each stance foot moved along the wall over the step, the largest;
-- ``min_bend_radius``: the swinging film's tightest free-span bend;
+- ``min_bend_radius``: the swinging film's tightest free-span bend, and ``film``, the breach of
+  the robot's film limit fc (FTFOF §VI.A.3) when it bends tighter;
 - ``pitch_range``: the trunk's pitch, max - min;
 - ``torque_ratio``: the largest servo torque over its limit, any leg and joint (over 1: the
   servos could not have held the plan), and ``torque``, which joint and how much;
@@ -39,6 +40,7 @@ class StepRules:
     clearance: float  # m: the robot's swing clearance (the release verdict)
     landing_start: float  # s: T2, where the trajectory's landing segment starts
     torque_limits: Array  # (3,) N m per chain joint (inf: a virtual joint)
+    film_limit: float  # m, fc: the film's tightest bend without damage
 
 
 @dataclass(frozen=True)
@@ -51,6 +53,7 @@ class StepMetrics:
     landing_press: float  # N, the landed pad's peak press on the wall in its landing hold
     slip: float  # m
     min_bend_radius: float  # m (inf: the film never bent in a free span)
+    film: str  # "" within fc, else how tight the film bent
     pitch_range: float  # rad
     torque_ratio: float  # the largest |torque| / limit over every leg's joints
     torque: str  # "" within the limits, else the joint and its torque
@@ -115,6 +118,7 @@ def step_metrics(
         landing_press=float(np.max(-ch["Fz_pad"][landing], initial=0.0)),
         slip=slip,
         min_bend_radius=1.0 / kappa if kappa > 0 else math.inf,
+        film=_film(kappa, rules.film_limit),
         pitch_range=float(np.ptp(pitch)) if pitch.size else 0.0,
         release=release_fault(
             t,
@@ -127,6 +131,13 @@ def step_metrics(
         **_torque(c["torque"][inside], rules.torque_limits),
         complete=complete,
     )
+
+
+def _film(kappa: float, fc: float) -> str:
+    """The film limit's verdict on the step's largest free-span curvature ``kappa`` (1/m)."""
+    if kappa * fc <= 1.0:
+        return ""
+    return f"the film bent to {1e3 / kappa:.1f} mm, tighter than fc = {1e3 * fc:g} mm"
 
 
 def _torque(torque: Array, limits: Array) -> dict[str, float | str]:

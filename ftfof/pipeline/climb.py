@@ -153,6 +153,7 @@ def run_climb(params: Params, spec: ClimbSpec) -> Climbed:
         robot.foot.swing_clearance,
         robot.timing.T2,
         chain_of(robot).torque_limits,
+        robot.foot.film_min_bend_radius,
     )
     steps = [
         step_metrics(c, imu, run.gait, k, rules)

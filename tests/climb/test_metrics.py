@@ -24,3 +24,10 @@ def test_a_torque_past_its_limit_is_named():
     out = _torque(torque, limits)
     assert out["torque_ratio"] == pytest.approx(1.6)
     assert out["torque"] == "HL3 needs 0.80 N m, past its 0.50 N m"
+
+
+def test_a_bend_tighter_than_fc_is_named():
+    from ftfof.climb.metrics import _film
+
+    assert _film(1.0 / 0.007, 0.006) == ""
+    assert _film(1.0 / 0.004, 0.006) == "the film bent to 4.0 mm, tighter than fc = 6 mm"

@@ -74,6 +74,7 @@ def test_a_one_step_climb_writes_its_channels_imu_metrics_and_traces(tmp_path, p
     (step,) = doc["steps"]
     assert step["release"] == "" and step["jitter"] > 0 and step["peak_pull"] > 1.0
     assert step["torque"] == "" and 0 < step["torque_ratio"] < 1
+    assert step["film"] == ""  # the cycloid's first peel keeps fc
     assert (
         step["min_bend_radius"]
         >= 0.9 * params_dict["robots"]["mst_m3f"]["foot"]["film_min_bend_radius"]

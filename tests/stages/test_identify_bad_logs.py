@@ -65,3 +65,29 @@ def test_identify_simulate_writes_the_round_trip_report(tmp_path):
     assert out["mu"]["truth"] == 0.45  # glass's preset
     assert set(out["adhesion"]) == {"estimate", "truth", "least_squares"}
     assert (tmp_path / "f.png").stat().st_size > 0
+
+
+def test_slip_logs_are_imported_for_identify_and_bad_ones_refused(tmp_path):
+    good, bad = tmp_path / "wall.csv", tmp_path / "spoilt.csv"
+    _log().to_csv(good, index=False)
+    _log().drop(columns="load").to_csv(bad, index=False)
+    out = tmp_path / "slip"
+    base = ["import-logs", "--protocol", "slip", "--out", str(out)]
+    result = runner.invoke(app, [*base, str(good), str(bad)])
+    assert result.exit_code != 0 and str(bad) in result.output and "column 'load'" in result.output
+    assert not out.exists()  # every log is checked before any is written
+    result = runner.invoke(app, [*base, str(good)])
+    assert result.exit_code == 0, result.output
+    imported = pd.read_csv(out / "wall.csv")
+    assert list(imported.columns) == ["t", "Fx", "Fz", "load"] and len(imported) == len(_log())
+    args = ["identify", "--surface", "glass", "--log", str(out / "wall.csv"), "--params"]
+    args += [str(ROOT / "params.yaml"), "--report", str(tmp_path / "r.json")]
+    args += ["--figure", str(tmp_path / "f.png")]
+    assert runner.invoke(app, args).exit_code == 0
+
+
+def test_an_unknown_log_protocol_is_refused(tmp_path):
+    path = tmp_path / "wall.csv"
+    _log().to_csv(path, index=False)
+    result = runner.invoke(app, ["import-logs", "--protocol", "drag", str(path)])
+    assert result.exit_code != 0 and "unknown protocol 'drag'" in result.output

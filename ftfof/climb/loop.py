@@ -40,7 +40,7 @@ CHANNELS = (
     ("curvature", LEGS),  # free-span curvature of each swinging pad's film (0 in stance)
     ("joints", JOINTS * LEGS),  # chain angles relative to the trunk
     ("torque", JOINTS * LEGS),
-    ("swing", 1),  # the swinging leg, -1 while all hold
+    ("swing", 1),  # the leg whose step it is (swing, landing hold, advance), -1 before the first
 )
 
 
@@ -128,7 +128,9 @@ class ClimbLoop:
         swing = int(gait.leg_of(int(gait.step_at(np.array([t]))[0]))) if t >= gait.start else -1
         self._record(t, q, qd, swing)
         self.next_record += self.every
-        return not self._fell(t, q, self.held, swing)
+        tau = t - gait.lift_off(int(gait.step_at(np.array([t]))[0]))
+        landing = swing if tau < gait.swing + gait.hold else -1  # its pad bonds in the hold
+        return not self._fell(t, q, self.held, landing)
 
     def _press(self, leg: int, t: float, q: Array, qd: Array) -> None:
         """In the landing hold, an integral loop on the leg's wall patch: it reads a.
@@ -194,9 +196,9 @@ class ClimbLoop:
         theta = chain.leg.inverse(rel)
         if not np.all(np.isfinite(theta)):
             return  # out of reach: keep the last targets (the run's checks refuse such paths)
-        J = chain.leg.jacobian(theta)[..., :2]
-        free = np.linalg.solve(J, rel_v[..., None])[..., 0]
-        rates = np.stack([free[:, 0], free[:, 1], -free[:, 0] - free[:, 1]], axis=1)
+        jac = chain.leg.jacobian(theta)  # the third joint follows -(q1 + q2): J @ [I; -1 -1]
+        free = np.linalg.solve(jac[..., :2] - jac[..., 2:], rel_v[..., None])[..., 0]
+        rates = chain.leg.sagittal_rates(theta, free)
         self.offsets[BASE:] = theta.ravel()
         self.rates[BASE:] = rates.ravel()
         setp = self.mbs.SetObjectParameter
@@ -254,7 +256,8 @@ class ClimbLoop:
         return float(film.free_span_curvature(coords, parts.x_ref, self.r.clamp_edge, bonded)[0])
 
     def _fell(self, t: float, q: Array, held: Array, swing: int) -> bool:
-        """A stance pad let go, or the body left its plan: the robot has fallen."""
+        """A stance pad let go, or the body left its plan: the robot has fallen. ``swing`` is the
+        leg in the air or in its landing hold (-1 after: its pad then holds the robot too)."""
         stance = np.ones(LEGS, dtype=bool)
         if swing >= 0:
             stance[swing] = False

@@ -82,6 +82,14 @@ class Gait:
         k = np.floor((np.asarray(t, float) - self.start) / self.period).astype(int)
         return np.where(np.asarray(t) < self.start, -1, np.minimum(k, self.steps - 1))
 
+    def phase(self, t: float) -> tuple[int, float, int]:
+        """At one time: its step (-1 before the first), the time since that step's lift-off,
+        and the step's leg (-1 before the first)."""
+        step = int(self.step_at(np.array([t]))[0])
+        if step < 0:
+            return -1, t - self.start, -1
+        return step, t - self.lift_off(step), self.leg_of(step)
+
     def body(self, t: Array) -> tuple[Array, Array]:
         """The planned body x and its rate at ``t``: one quarter stride per completed advance."""
         t = np.asarray(t, dtype=float)

@@ -97,16 +97,16 @@ class ClimbLoop:
         qd = self.data.GetODE2Coordinates_t(copy=False)
         h = self.solver.it.currentStepSize
         gait = self.r.gait
-        swing = int(gait.leg_of(int(gait.step_at(np.array([t]))[0]))) if t >= gait.start else -1
+        _, tau, swing = gait.phase(t)
         held = np.zeros(LEGS, dtype=bool)
         for leg, pad in enumerate(self.pads):
             step = pad.update(q, qd, h, t)
             held[leg] = step.bonded > 0
         self.held = held
         if swing >= 0:
-            self._press(swing, t, q, qd)
-        self._sole(t, swing)
-        self._targets(t)
+            self._press(swing, tau, q, qd)
+        self._sole(tau, swing)
+        self._targets(t, tau, swing)
         self.steps += 1
         if self.steps % 64 == 0:
             if not np.isfinite(q).all():
@@ -125,14 +125,13 @@ class ClimbLoop:
         q = self.data.GetODE2Coordinates(copy=False)
         qd = self.data.GetODE2Coordinates_t(copy=False)
         gait = self.r.gait
-        swing = int(gait.leg_of(int(gait.step_at(np.array([t]))[0]))) if t >= gait.start else -1
+        _, tau, swing = gait.phase(t)
         self._record(t, q, qd, swing)
         self.next_record += self.every
-        tau = t - gait.lift_off(int(gait.step_at(np.array([t]))[0]))
         landing = swing if tau < gait.swing + gait.hold else -1  # its pad bonds in the hold
         return not self._fell(t, q, self.held, landing)
 
-    def _press(self, leg: int, t: float, q: Array, qd: Array) -> None:
+    def _press(self, leg: int, tau: float, q: Array, qd: Array) -> None:
         """In the landing hold, an integral loop on the leg's wall patch: it reads a.
 
         The robot starts with every pad bonded at the pre-pressure; on a vertical wall no
@@ -140,7 +139,6 @@ class ClimbLoop:
         one at a time, on landing. Each landing finds its depth afresh from zero (a depth kept
         from the last landing would jump the foot into the wall at the next lift-off)."""
         gait = self.r.gait
-        tau = t - gait.lift_off(int(gait.step_at(np.array([t]))[0]))
         if tau < gait.swing:
             self.press_depth[leg] = 0.0
             return
@@ -153,13 +151,12 @@ class ClimbLoop:
         h = self.solver.it.currentStepSize
         self.press_depth[leg] += error / self.series_stiffness * min(h / PRESS_TIME_CONSTANT, 1.0)
 
-    def _sole(self, t: float, swing: int) -> None:
+    def _sole(self, tau: float, swing: int) -> None:
         """The landing leg's sole presses its film through the landing hold, and only then: it
         spreads the landing press over the pad, so the whole pad bonds again."""
         on = -1
         if swing >= 0:
             gait = self.r.gait
-            tau = t - gait.lift_off(int(gait.step_at(np.array([t]))[0]))
             on = swing if gait.swing <= tau < gait.swing + gait.hold else -1
         if on == self.sole_on:
             return
@@ -169,27 +166,24 @@ class ClimbLoop:
                     self.mbs.SetObjectParameter(obj, "activeConnector", active)
         self.sole_on = on
 
-    def _applied_press(self, t: float) -> Array:
+    def _applied_press(self, tau: float, leg: int) -> Array:
         """Each leg's press into the wall now: the landing leg's loop depth through its swing
         and hold, released over the advance that follows (a press held through the stance would
         make the stance feet push against each other: on a wall nothing else takes it)."""
         gait = self.r.gait
         out = np.zeros(LEGS)
-        step = int(gait.step_at(np.array([t]))[0])
-        if step < 0:
+        if leg < 0:
             return out
-        leg = gait.leg_of(step)
-        tau = t - gait.lift_off(step)
         release = (tau - gait.swing - gait.hold) / gait.shift
         out[leg] = self.press_depth[leg] * (1.0 - float(min_jerk(np.array(release))[0]))
         return out
 
-    def _targets(self, t: float) -> None:
+    def _targets(self, t: float, tau: float, swing: int) -> None:
         """Joint targets: each foot's gait target, relative to the hip on the body's plan."""
         gait, chain = self.r.gait, self.r.chain
         feet, feet_v = gait.feet(t)
         body, body_v = gait.body(np.array([t]))
-        feet[:, 1] -= self._applied_press(t)
+        feet[:, 1] -= self._applied_press(tau, swing)
         rel = feet.copy()  # in each leg's trajectory frame: x from its hip's P0, z off the wall
         rel[:, 0] += chain.hip[0] - body[0] - gait.hips
         rel_v = feet_v - np.array([body_v[0], 0.0])

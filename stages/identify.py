@@ -1,5 +1,7 @@
 """`ftfof identify`: friction and adhesion of a surface from a slip log -> reports/identify.json,
-reports/identify.png; ``--write-params`` sets the surface's preset in params.yaml."""
+and in reports/identify/ the convergence plot and the surface's preset block; ``--write-params``
+sets the preset in params.yaml. Without ``--log`` or ``--simulate`` it does what params.yaml's
+``identify`` section says (the pipeline's stage)."""
 
 from __future__ import annotations
 
@@ -11,39 +13,71 @@ import typer
 from ftfof.pipeline.catalog import path
 from stages.common import ParamsOption, console, stage
 
-REPORT, FIGURE = path("identify"), path("identify_figure")
+REPORT, FOLDER, LOGS = path("identify"), path("identify_outputs"), path("slip_logs")
 
 
 @stage
 def command(
-    surface: Annotated[str, typer.Option(help="The preset the log is of (surfaces: in params).")],
+    surface: Annotated[
+        str | None,
+        typer.Option(help="The preset the log is of (default identify.surface, else the surface)."),
+    ] = None,
     log: Annotated[Path | None, typer.Option(help="A slip log (CSV: t, Fx, Fz, load).")] = None,
     simulate: Annotated[
         bool, typer.Option("--simulate", help="Run the slip test on the preset first.")
     ] = False,
+    calibration: Annotated[
+        Path | None,
+        typer.Option(
+            help="`ftfof calibrate`'s report of this surface: its pull-off strength, with the "
+            "identified shear, sets the preset's shear_capacity_ratio."
+        ),
+    ] = None,
+    if_enabled: Annotated[
+        bool,
+        typer.Option("--if-enabled", help="Do nothing but say so when identify.enabled is false."),
+    ] = False,
     write_params: Annotated[
-        bool, typer.Option("--write-params", help="Set the surface's friction and strength.")
+        bool, typer.Option("--write-params", help="Set the surface's identified values.")
     ] = False,
     params_path: Annotated[Path, ParamsOption] = Path("params.yaml"),
     report: Annotated[Path, typer.Option(help="The JSON report.")] = REPORT,
-    figure: Annotated[Path, typer.Option(help="The convergence plot.")] = FIGURE,
+    folder: Annotated[Path, typer.Option(help="For the plot and the preset block.")] = FOLDER,
 ) -> None:
     """Estimate mu and F_adh (least squares and the Kalman-like estimator); a bad log stops
     before anything is written, naming file, row and column."""
     from ftfof.errors import ParamsError
+    from ftfof.identify.fit import identify
     from ftfof.pipeline import identify as ident
     from ftfof.pipeline.params_file import load_params
 
     params = load_params(params_path)
-    if simulate == (log is not None):
+    settings = params.identify
+    paths = ident.IdentifyPaths(report, folder)
+    if if_enabled and not settings.enabled:
+        ident.write_off(paths)
+        console.print("identify: off (identify.enabled is false)")
+        return
+    if simulate and log is not None:
         raise ParamsError("identify", "give --log PATH or --simulate, not both")
-    slip = ident.simulate_slip(params, surface) if simulate else ident.read_log(log)
-    ls, track = ident.identify(slip)
-    out = ident.report(ls, track, ident.truth(params, surface) if simulate else None)
-    ident.write_outputs(out, track, report, figure)
+    if not simulate and log is None and settings.log is not None:
+        log = Path(settings.log)
+        if not log.is_relative_to(LOGS):
+            raise ParamsError("identify.log", f"{log} is not under {LOGS} (the stage's input)")
+    name = surface or settings.surface or params.surface
+    slip = ident.read_log(log) if log is not None else ident.simulate_slip(params, name)
+    ls, track = identify(slip)
+    true = ident.truth(params, name) if log is None else None
+    source = "simulated slip test" if log is None else str(log)
+    out = ident.report(name, source, ls, track, true)
+    pull_off = ident.read_calibration(calibration, name) if calibration else None
+    block = ident.preset(params, name, source, track.final, pull_off)
+    ident.write_outputs(out, ident.convergence_figure(out, track), block, paths)
     if write_params:
-        ident.write_surface(params_path, params, surface, track.final)
+        ident.write_surface(params_path, name, block, params.surfaces[name])
+        console.print(f"wrote the identified values of {name} into {params_path}")
     console.print(
-        f"{surface}: mu = {track.final.mu:.4f} (least squares {ls.mu:.4f}), "
-        f"F_adh = {track.final.adhesion:.3f} N per pad (least squares {ls.adhesion:.3f})"
+        f"{name}: mu = {track.final.mu:.4f} (least squares {ls.mu:.4f}), "
+        f"F_adh = {track.final.adhesion:.3f} N per pad (least squares {ls.adhesion:.3f}); "
+        f"preset block in {paths.preset}"
     )

@@ -24,8 +24,9 @@ app = typer.Typer(
 def eps(
     params_path: Annotated[Path, ParamsOption] = Path("params.yaml"),
     epsilons: Annotated[
-        str, typer.Option(help="The ε values, comma-separated (0: the plain Bezier).")
-    ] = "0,0.5,1,2,4,8",
+        str | None,
+        typer.Option(help="The ε values, comma-separated (0: plain Bezier; default study.eps)."),
+    ] = None,
     workers: Annotated[int, typer.Option(min=0, help="Parallel simulations (0: all cores).")] = 0,
     report: Annotated[Path, typer.Option(help="Study report JSON.")] = REPORT,
     figure: Annotated[Path, typer.Option(help="Study figure PNG.")] = FIGURE,
@@ -34,8 +35,9 @@ def eps(
     from ftfof.pipeline.params_file import load_params
     from ftfof.pipeline.study import parse_epsilons, run
 
-    values = parse_epsilons(epsilons)
-    points = run(load_params(params_path), values, report, figure, workers)
+    params = load_params(params_path)
+    values = params.study.eps if epsilons is None else parse_epsilons(epsilons)
+    points = run(params, values, report, figure, workers)
     console.print("    ε   landing Fp (N)  dFp/dt (N/s)  body peak (m/s²)  detachment (m/s²)")
     for p in points:
         console.print(

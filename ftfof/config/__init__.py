@@ -58,6 +58,7 @@ from ftfof.config.stages import (
     EpsBezier,
     Evaluate,
     Feasibility,
+    Identify,
     LogColumns,
     Logs,
     LogUnits,
@@ -70,6 +71,7 @@ from ftfof.config.stages import (
     Sample,
     Sensor,
     Solver,
+    Study,
     Train,
 )
 
@@ -96,6 +98,7 @@ __all__ = [
     "Foot",
     "FootMechanics",
     "Fraction",
+    "Identify",
     "JointRange",
     "Leg",
     "LegModel",
@@ -126,6 +129,7 @@ __all__ = [
     "SpatialLeg",
     "Strategy",
     "Strict",
+    "Study",
     "Surface",
     "Target",
     "Timing",

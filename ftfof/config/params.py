@@ -16,12 +16,14 @@ from ftfof.config.stages import (
     Dataset,
     Evaluate,
     Feasibility,
+    Identify,
     Logs,
     Optimize,
     Platform,
     Polish,
     Refine,
     Sample,
+    Study,
     Train,
 )
 
@@ -47,12 +49,17 @@ class Params(Strict):
     polish: Polish = Polish()
     evaluate: Evaluate = Evaluate()
     climb: Climb = Climb()
+    study: Study = Study()
+    identify: Identify = Identify()
 
     @model_validator(mode="after")
     def _selected_presets_exist(self) -> Params:
         # The message names its key: an error of the whole model has no location of its own.
-        for key, presets in (("robot", self.robots), ("surface", self.surfaces)):
-            name = getattr(self, key)
+        for key, name, presets in (
+            ("robot", self.robot, self.robots),
+            ("surface", self.surface, self.surfaces),
+            ("identify.surface", self.identify.surface or self.surface, self.surfaces),
+        ):
             if name not in presets:
                 raise ValueError(f"{key}: {name!r} is not a preset (have {', '.join(presets)})")
         return self

@@ -207,6 +207,37 @@ class Climb(Strict):
     time_budget: PositiveFloat = 300.0  # wall seconds per climb before it is stopped as failed
 
 
+def _ascending(values: list[float]) -> list[float]:
+    """Distinct values, in increasing order (a sweep's axis)."""
+    if len(set(values)) != len(values):
+        raise ValueError(f"must not repeat a value (got {values})")
+    return sorted(values)
+
+
+class Study(Strict):
+    """The platform studies that run as pipeline stages (`ftfof study`)."""
+
+    # the ε-Bezier baseline's truncation values (the ε-Bezier paper's Fig. 15-16; 0: plain Bezier)
+    eps: Annotated[list[NonNegativeFloat], Field(min_length=2), AfterValidator(_ascending)] = [
+        0.0,
+        0.5,
+        1.0,
+        2.0,
+        4.0,
+        8.0,
+    ]
+
+
+class Identify(Strict):
+    """The pipeline's identify stage: a surface's friction and adhesion from a slip log."""
+
+    enabled: bool = True  # false: the stage records that it is off and writes nothing else
+    surface: str | None = None  # the preset the log is of (null: the selected surface)
+    # a slip log (CSV: t, Fx, Fz, load) under data/slip, as `ftfof import-logs --protocol slip`
+    # writes it (null: the slip test simulated on the preset, a round trip)
+    log: str | None = None
+
+
 class LogColumns(Strict):
     time: str = "t"
     x: str = "x"

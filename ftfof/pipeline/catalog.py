@@ -70,9 +70,10 @@ ARTEFACTS: dict[str, Artefact] = {
     "evaluate_summary": _a("reports/summary/evaluate.json", "json", "evaluate"),
     "export": _a("reports/optimum_trajectory.csv", "csv", "evaluate"),
     "calibration": _a("reports/calibration.json", "json", "calibrate"),
-    "slip_logs": _a("data/slip", "csv", "slip-test"),
+    "slip_logs": _a("data/slip", "slip_logs", "slip-test"),
     "identify": _a("reports/identify.json", "json", "identify"),
-    "identify_figure": _a("reports/identify.png", "png", "identify"),
+    "identify_outputs": _a("reports/identify", "identified_surface", "identify"),
+    "identify_summary": _a("reports/summary/identify.json", "json", "identify"),
     "simulate": _a("reports/simulate", "simulation_plots", "simulate"),
     "exports": _a("reports/export", "controller_trajectory", "export"),
     "climbs": _a("reports/climb", "climb", "climb"),
@@ -98,6 +99,9 @@ FORMATS: dict[str, tuple[str, str | None]] = {
     "csv": ("ftfof.files:atomic_path", None),
     "html": ("ftfof.files:atomic_path", None),
     "simulation_plots": ("ftfof.files:save_figure", None),
+    # the convergence plot and the preset block, for the user (`identify --write-params` sets it)
+    "identified_surface": ("ftfof.pipeline.identify:write_outputs", None),
+    "slip_logs": ("ftfof.pipeline.identify:write_log", "ftfof.pipeline.identify:read_log"),
     "controller_trajectory": ("ftfof.evaluate.export:render", None),
     "climb": ("ftfof.pipeline.climb:write_climb", None),
 }
@@ -148,6 +152,7 @@ STAGES: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
         ),
         ("evaluate", "report", "export", "metrics", "evaluate_summary"),
     ),
+    "identify": (("slip_logs",), ("identify", "identify_outputs", "identify_summary")),
 }
 
 

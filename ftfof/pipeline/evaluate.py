@@ -33,7 +33,10 @@ from ftfof.pipeline.jobs import FINAL, Acquisition
 from ftfof.pipeline.registry import model_record, promote
 from ftfof.pipeline.summaries import write_metrics
 from ftfof.report.context import STAGE_FIGURES
+from ftfof.report.eps_study import eps_figure
+from ftfof.report.html import figure_data_uri
 from ftfof.robot import RobotContext
+from ftfof.study.eps import simulate as eps_study
 from ftfof.trajectory.baselines import BezierTrajectory
 from ftfof.trajectory.piecewise import Sampled
 
@@ -76,9 +79,8 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
             f"{'; all on the check film' if params.evaluate.check_nodes else ''}), "
             f"{len(todo)} to run"
         )
-        wall = job.simulate(
-            todo, cfg.workers if workers is None else workers, cfg.scheduler, "evaluate"
-        )
+        pool = cfg.workers if workers is None else workers
+        wall = job.simulate(todo, pool, cfg.scheduler, "evaluate")
         job.finish(wall, len(todo))
         simulations = pq.read_table(job.out / FINAL).to_pandas()
         bezier = {"optimum": decision(inputs, inputs.optimum["front_row"])}
@@ -97,10 +99,18 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
         )
         climbed = _climbs(params, ctx, paths.out, baselines, bezier, breaks, workers)
         result.summary["climb"] = climbed
+        eps = eps_study(bench(params, ctx), baselines["eps_bezier"], params.study.eps, pool)
+        result.summary["eps_study"] = eps.report()
         values = report_context(
             result, ctx, inputs, params.surface, result.summary["reference"], params.climb.steps
         )
-        values["figures"] = {**pictures, **values["figures"], **_climb_figures(paths.out, climbed)}
+        values["eps_study"] = result.summary["eps_study"]
+        values["figures"] = {
+            **pictures,
+            **values["figures"],
+            **_climb_figures(paths.out, climbed),
+            "eps_study": figure_data_uri(eps_figure(eps)),
+        }
         html = render({**values, "export_path": str(paths.export), "refine": rounds})
         controller = result.controller
         with atomic_path(paths.export) as tmp:

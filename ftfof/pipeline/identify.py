@@ -3,22 +3,47 @@ friction and adhesion, write the report, the convergence plot and a surface pres
 
 from __future__ import annotations
 
+import json
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import numpy as np
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
 import pandas as pd
+import yaml
+from matplotlib.figure import Figure
 
 from ftfof.config import Params, Surface
 from ftfof.data.sliplog import parse_slip
 from ftfof.errors import DataError, ParamsError
-from ftfof.files import atomic_path, write_json
-from ftfof.identify.estimate import Estimate, Track, kalman, least_squares
-from ftfof.identify.log import SlipLog, slip_samples
+from ftfof.files import atomic_path, save_figure
+from ftfof.identify.estimate import Estimate, Track
+from ftfof.identify.log import SlipLog
 from ftfof.pipeline.params_file import edit_params
+from ftfof.pipeline.summaries import write_metrics
 from ftfof.sim.bonds import BondLaw
-from ftfof.sim.slip import SlipProtocol, adhesion_truth, drag, slip_test
+from ftfof.sim.slip import SlipProtocol, adhesion_truth, drag, slip_test, strength_for
 from ftfof.sim.spec import Bench
+
+COMMENT = "identified by ftfof identify (reports/identify.json)"
+
+
+@dataclass(frozen=True)
+class IdentifyPaths:
+    report: Path  # reports/identify.json (its summary beside it)
+    folder: Path  # the stage's folder: the plot and the preset block
+
+    @property
+    def figure(self) -> Path:
+        return self.folder / "convergence.png"
+
+    @property
+    def preset(self) -> Path:
+        return self.folder / "surface.yaml"
+
 
 PROTOCOL = SlipProtocol(
     loads=(-1.0, 0.0, 1.0, 2.0, 3.0, 4.0), speed=0.01, drag=0.008, ankle_stiffness=50.0
@@ -66,33 +91,70 @@ def read_log(path: Path) -> SlipLog:
     return parse_slip(df, str(path))
 
 
-def identify(log: SlipLog) -> tuple[Estimate, Track]:
-    """Least squares over the slip samples, and the Kalman estimate started from it (the seed's
-    filter needs a start near the truth: a window holds one load, so the first windows alone
-    cannot give one)."""
-    slip = slip_samples(log)
-    fn, ft = -log.Fz[slip], np.abs(log.Fx[slip])
-    ls = least_squares(fn, ft)
-    return ls, kalman(fn, ft, ls)
+def read_calibration(path: Path, surface: str) -> float:
+    """The pull-off strength sigma that ``ftfof calibrate`` fitted (or held) for ``surface``."""
+    if not path.is_file():
+        raise DataError(str(path), "no such file (run `ftfof calibrate` first)")
+    try:
+        fit = json.loads(path.read_text())
+        strength = {**fit["fixed"], **fit["values"]}.get("strength")
+        fitted_on = fit["surface"]
+    except (json.JSONDecodeError, KeyError, TypeError) as err:
+        raise DataError(str(path), f"not a calibration report ({err})") from None
+    if fitted_on != surface:
+        raise DataError(str(path), f"calibrates surface {fitted_on!r}, not {surface!r}")
+    if strength is None:
+        raise DataError(str(path), "has no strength (fitted or fixed)")
+    return float(strength)
 
 
-def report(ls: Estimate, track: Track, true: Estimate | None) -> dict[str, Any]:
-    def block(name: str) -> dict[str, float | None]:
+def preset(
+    params: Params, name: str, source: str, est: Estimate, pull_off: float | None = None
+) -> dict[str, Any]:
+    """Surface ``name``'s preset with the identified friction and shear strength tau_max (the
+    adhesion at the robot's preload, :func:`strength_for`). Without a peel calibration the
+    pull-off strength follows from tau_max through the preset's k = tau / sigma; with one
+    (``pull_off``: sigma fitted on normal peel data) k follows from both."""
+    surface = surface_of(params, name)
+    r = params.selected_robot
+    law = BondLaw.from_surface(surface, params.acquire.solver.contact_smoothing)
+    area = r.foot.pad_length * r.platform.film.width
+    tau = strength_for(law, r.pre_pressure, area, est.mu, est.adhesion)
+    block = surface.model_dump()
+    block["friction"] = round(est.mu, 4)
+    block["note"] = f"{surface.note} Friction and shear identified by ftfof identify ({source})."
+    if pull_off is None:
+        block["strength"] = round(tau / surface.shear_capacity_ratio, 1)
+    else:
+        block["strength"] = round(pull_off, 1)
+        block["shear_capacity_ratio"] = round(tau / pull_off, 4)
+        block["shear_source"] = "ftfof identify: slip-test shear over ftfof calibrate's pull-off"
+    return block
+
+
+def report(
+    name: str, source: str, ls: Estimate, track: Track, true: Estimate | None
+) -> dict[str, Any]:
+    def block(key: str) -> dict[str, float | None]:
         return {
-            "estimate": getattr(track.final, name),
-            "truth": getattr(true, name) if true else None,
-            "least_squares": getattr(ls, name),
+            "estimate": getattr(track.final, key),
+            "truth": getattr(true, key) if true else None,
+            "least_squares": getattr(ls, key),
         }
 
-    return {"mu": block("mu"), "adhesion": block("adhesion"), "adhesion_unit": "N per pad"}
+    return {
+        "enabled": True,
+        "surface": name,
+        "source": source,
+        "slip_samples": int(track.samples[-1]),
+        "mu": block("mu"),
+        "adhesion": block("adhesion"),
+        "adhesion_unit": "N per pad",
+    }
 
 
-def write_outputs(out: dict[str, Any], track: Track, json_path: Path, figure: Path) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+def convergence_figure(out: dict[str, Any], track: Track) -> Figure:
+    """The Kalman estimate over the log, beside least squares and the truth where known."""
     fig, axes = plt.subplots(2, 1, sharex=True, figsize=(6, 5))
     for ax, name, values in (
         (axes[0], "mu", track.mu),
@@ -106,28 +168,39 @@ def write_outputs(out: dict[str, Any], track: Track, json_path: Path, figure: Pa
     axes[0].legend()
     axes[1].set_xlabel("slip samples seen")
     fig.tight_layout()
-    figure.parent.mkdir(parents=True, exist_ok=True)
-    with atomic_path(figure) as tmp:
-        fig.savefig(tmp, format="png", dpi=120)
-    plt.close(fig)
-    write_json(json_path, out)
+    return fig
 
 
-def write_surface(params_path: Path, params: Params, name: str, est: Estimate) -> None:
-    """Set the surface's friction and the strength whose shear allowance gives F_adh at the
-    robot's preload (inverting :func:`adhesion_truth`), comments kept."""
-    surface = surface_of(params, name)
-    r = params.selected_robot
-    area = r.foot.pad_length * r.platform.film.width
-    law = BondLaw.from_surface(surface, params.acquire.solver.contact_smoothing)
-    s = float(law.preload_factor(r.pre_pressure / area))
-    strength = est.mu * est.adhesion / (s * area * surface.shear_capacity_ratio)
+def write_outputs(
+    out: dict[str, Any], figure: Figure, block: dict[str, Any], paths: IdentifyPaths
+) -> None:
+    """The report and its summary, the convergence plot and the preset block, all built."""
+    save_figure(figure, paths.figure)
+    with atomic_path(paths.preset) as tmp:
+        tmp.write_text(yaml.safe_dump({out["surface"]: block}, sort_keys=False))
+    write_metrics("identify", paths.report, out)
+
+
+def write_off(paths: IdentifyPaths) -> None:
+    """What the pipeline's stage leaves when ``identify.enabled`` is false: a report saying so,
+    and the stage's folder empty."""
+    paths.folder.mkdir(parents=True, exist_ok=True)
+    for stale in (paths.figure, paths.preset):
+        stale.unlink(missing_ok=True)
+    write_metrics("identify", paths.report, {"enabled": False})
+
+
+def write_surface(params_path: Path, name: str, block: dict[str, Any], current: Surface) -> None:
+    """Set the preset's values that identify changed, each with a comment naming it; the rest
+    of params.yaml as it is."""
+    changed = {k: v for k, v in block.items() if getattr(current, k) != v}
 
     def edit(document: Any) -> None:
-        block = document["surfaces"][name]
-        block["friction"] = round(est.mu, 4)
-        block["strength"] = round(strength, 1)
-        for key in ("friction", "strength"):
-            block.yaml_add_eol_comment("identified by ftfof identify (reports/identify.json)", key)
+        surface = document["surfaces"][name]
+        for key, value in changed.items():
+            surface[key] = value
+            surface.yaml_add_eol_comment(
+                "identified by ftfof identify (reports/identify.json)", key
+            )
 
     edit_params(params_path, edit)

@@ -9,12 +9,11 @@ from pathlib import Path
 import numpy as np
 
 from ftfof.config import Params
-from ftfof.errors import ParamsError, SimulationError
+from ftfof.errors import ParamsError
 from ftfof.files import save_figure, write_json
 from ftfof.pipeline.bench import baseline_trajectories, bench, context_of
 from ftfof.report.eps_study import eps_figure
-from ftfof.sim.pool import run_all
-from ftfof.study.eps import EpsPoint, measure, report, swept
+from ftfof.study.eps import EpsPoint, EpsStudy, simulate
 
 
 def parse_epsilons(text: str) -> list[float]:
@@ -31,26 +30,16 @@ def parse_epsilons(text: str) -> list[float]:
 def run(
     params: Params, epsilons: Sequence[float], out: Path, figure: Path, workers: int
 ) -> list[EpsPoint]:
-    """Simulate every ε, write the report to ``out`` and the figure to ``figure``; a failed
-    simulation is an error naming its ε, and then nothing is written."""
+    """Simulate every ε (:func:`study_of`), then write the report to ``out`` and the figure to
+    ``figure``: a failed simulation writes nothing."""
+    study = study_of(params, epsilons, workers)
+    save_figure(eps_figure(study), figure)
+    write_json(out, study.report())
+    return study.points
+
+
+def study_of(params: Params, epsilons: Sequence[float], workers: int) -> EpsStudy:
+    """The ε study of the selected robot's ε-Bezier baseline on its platform."""
     ctx = context_of(params)
-    on = bench(params, ctx)
     base = baseline_trajectories(params, ctx)["eps_bezier"]
-    specs = [
-        on.analytic(f"eps:{e:g}", i, trajectory)
-        for i, (e, trajectory) in enumerate(zip(epsilons, swept(base, epsilons), strict=True))
-    ]
-    results = run_all(specs, workers)
-    T3 = ctx.policy.timing.T3
-    points: list[EpsPoint] = []
-    landings = {}
-    for e, r in zip(epsilons, results, strict=True):
-        if not r.ok:
-            raise SimulationError(f"eps_bezier at ε = {e:g}", r.error)
-        points.append(measure(e, r.channels, r.scalars, T3))
-        landed = r.channels["switch"] > 0
-        landings[e] = (r.channels["t"][landed], r.channels["Fp"][landed])
-    press = specs[0].pre_pressure
-    save_figure(eps_figure(points, landings, press), figure)
-    write_json(out, report(points, press))
-    return points
+    return simulate(bench(params, ctx), base, epsilons, workers)

@@ -161,6 +161,15 @@ def evaluate(report: Report) -> dict[str, Any]:
     return {**out, "optimum": optimum, **_keys(report, "seconds")}
 
 
+def identify(report: Report) -> dict[str, Any]:
+    """The surface and its estimates (Kalman and least squares), with the truth of a simulated
+    log; only that it is off when it is."""
+    out = _keys(report, "enabled", "surface", "source")
+    for name in ("mu", "adhesion"):
+        out.update({f"{name}_{k}": v for k, v in report.get(name, {}).items() if v is not None})
+    return out
+
+
 SUMMARIES: dict[str, Callable[[Report], dict[str, Any]]] = {
     "sample": sample,
     "acquire": acquire,
@@ -170,6 +179,7 @@ SUMMARIES: dict[str, Callable[[Report], dict[str, Any]]] = {
     "refine": refine,
     "polish": polish,
     "evaluate": evaluate,
+    "identify": identify,
 }
 
 

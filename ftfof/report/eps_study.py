@@ -3,24 +3,18 @@ and the landing impact and body jitter against ε."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
-
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
-import numpy as np
 from matplotlib.figure import Figure
 
-from ftfof.study.eps import EpsPoint
+from ftfof.study.eps import EpsStudy
 
 
-def eps_figure(
-    points: Sequence[EpsPoint],
-    landings: Mapping[float, tuple[np.ndarray, np.ndarray]],
-    press_target: float,
-) -> Figure:
-    """``landings``: per ε, the time and pre-pressure Fp from complete detachment on."""
+def eps_figure(study: EpsStudy) -> Figure:
+    """Each ε's landing over time, and the landing impact and body jitter against ε."""
+    points, landings, press_target = study.points, study.landings, study.press
     fig, axes = plt.subplots(2, 2, figsize=(11, 7), constrained_layout=True)
     ax = axes[0, 0]
     for eps, (t, Fp) in landings.items():

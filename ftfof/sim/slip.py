@@ -158,3 +158,9 @@ def adhesion_truth(law: BondLaw, preload: float, area: float) -> float:
     factor of the preload spread over the pad (the reset's bond) with no rate or damage."""
     s = float(law.preload_factor(preload / area))
     return s * law.shear_strength * area / law.friction if law.friction > 0 else math.inf
+
+
+def strength_for(law: BondLaw, preload: float, area: float, mu: float, adhesion: float) -> float:
+    """The shear strength tau_max whose allowance gives ``adhesion`` per pad at ``preload``
+    (:func:`adhesion_truth` solved for tau_max)."""
+    return mu * adhesion / (float(law.preload_factor(preload / area)) * area)

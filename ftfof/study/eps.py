@@ -25,6 +25,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ftfof.data.targets import full_rate
+from ftfof.errors import SimulationError
+from ftfof.sim.pool import run_all
+from ftfof.sim.spec import Bench
 from ftfof.trajectory.baselines import EpsBezier
 
 Array = NDArray[np.float64]
@@ -104,3 +107,34 @@ def report(points: Sequence[EpsPoint], press_target: float) -> dict:
             f: trend(points, f) for f in ("landing_pre_pressure", "landing_rate", "peak_body_acc")
         },
     }
+
+
+@dataclass(frozen=True)
+class EpsStudy:
+    """The measured points, each ε's landing (time and pre-pressure Fp from complete detachment
+    on) and the press a landing aims at."""
+
+    points: list[EpsPoint]
+    landings: dict[float, tuple[Array, Array]]
+    press: float
+
+    def report(self) -> dict:
+        return report(self.points, self.press)
+
+
+def simulate(on: Bench, base: EpsBezier, epsilons: Sequence[float], workers: int) -> EpsStudy:
+    """``base`` re-timed at every ε and simulated on ``on`` in a process pool; a failed
+    simulation is an error naming its ε."""
+    specs = [
+        on.analytic(f"eps:{e:g}", i, trajectory)
+        for i, (e, trajectory) in enumerate(zip(epsilons, swept(base, epsilons), strict=True))
+    ]
+    points: list[EpsPoint] = []
+    landings = {}
+    for e, r in zip(epsilons, run_all(specs, workers), strict=True):
+        if not r.ok:
+            raise SimulationError(f"eps_bezier at ε = {e:g}", r.error)
+        points.append(measure(e, r.channels, r.scalars, on.robot.timing.T3))
+        landed = r.channels["switch"] > 0
+        landings[e] = (r.channels["t"][landed], r.channels["Fp"][landed])
+    return EpsStudy(points, landings, specs[0].pre_pressure)

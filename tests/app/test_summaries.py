@@ -24,6 +24,7 @@ FULL = {  # stage -> its full report in the catalog
     "refine": "refine_report",
     "polish": "polish_report",
     "evaluate": "metrics",
+    "identify": "identify",
 }
 
 

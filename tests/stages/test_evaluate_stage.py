@@ -28,8 +28,8 @@ def test_report_is_self_contained_and_every_image_decodes(evaluated):
     assert not re.search(r"(?:https?:)?//[a-z0-9.-]+\.[a-z]{2,}", html, re.I), "external URL"
     sources = re.findall(r"""<img[^>]+src=["']([^"']+)["']""", html)
     # paths (in the run-this box and with the figures), forces, jitter, the climb's traces and
-    # side view, the choice, fidelity, refinement, 3 Pareto, 2 training
-    assert len(sources) == 14
+    # side view, the ε study, the choice, fidelity, refinement, 3 Pareto, 2 training
+    assert len(sources) == 15
     for src in sources:
         assert src.startswith("data:image/png;base64,")
         image = Image.open(io.BytesIO(base64.b64decode(src.split(",", 1)[1])))
@@ -58,6 +58,22 @@ def test_the_climbing_robot_climbs_table_ones_trajectories(evaluated):
     html = (work / "report.html").read_text()
     assert "<h2>The climbing robot</h2>" in html and "1 of 1" in html
     assert "FTFOF Table I [m/s²]" in html and "<td>327.3</td>" in html
+
+
+def test_the_eps_study_is_in_the_metrics_and_the_report(evaluated):
+    """The ε-Bezier re-timed at every ``study.eps``: each ε's landing in metrics.json, its row
+    and the figure in the report."""
+    work, *_ = evaluated
+    study = json.loads((work / "metrics.json").read_text())["eps_study"]
+    eps = [p["eps"] for p in study["points"]]
+    assert eps == [0.0, 0.5, 1.0, 2.0, 4.0, 8.0]  # the default sweep, in order
+    for p in study["points"]:
+        assert p["landing_pre_pressure"] > 0.5 * study["press_target"] and p["landing_rate"] > 0
+    assert study["trend"]["landing_pre_pressure"]["figure"] == "landing_pre_pressure"
+    html = (work / "report.html").read_text()
+    section = html.split("<h2>The ε-Bezier's landing against ε</h2>")[1].split("<h2>")[0]
+    assert [f"<tr><td>{e:g}</td>" in section for e in eps] == [True] * len(eps)
+    assert 'alt="the landing against ε"' in section
 
 
 def test_the_choice_is_among_the_polished_candidates_as_the_simulator_measured_them(evaluated):

@@ -7,6 +7,7 @@ import json
 import numpy as np
 import pandas as pd
 import pytest
+import yaml
 from typer.testing import CliRunner
 
 from stages.cli import app
@@ -34,14 +35,14 @@ def _log(n: int = 40) -> pd.DataFrame:
 def test_a_bad_slip_log_is_refused_naming_file_row_and_column(tmp_path, spoil, where):
     path = tmp_path / "slip.csv"
     spoil(_log()).to_csv(path, index=False)
-    report, figure = tmp_path / "identify.json", tmp_path / "identify.png"
+    report, folder = tmp_path / "identify.json", tmp_path / "identify"
     args = ["identify", "--surface", "glass", "--log", str(path), "--params"]
-    args += [str(ROOT / "params.yaml"), "--report", str(report), "--figure", str(figure)]
+    args += [str(ROOT / "params.yaml"), "--report", str(report), "--folder", str(folder)]
     result = runner.invoke(app, args)
     assert result.exit_code != 0
     assert str(path) in result.output and where in result.output
     assert len(result.output.strip().splitlines()) == 1
-    assert not report.exists() and not figure.exists()
+    assert not report.exists() and not folder.exists()
 
 
 def test_a_good_slip_log_is_identified(tmp_path):
@@ -50,21 +51,28 @@ def test_a_good_slip_log_is_identified(tmp_path):
     report = tmp_path / "identify.json"
     args = ["identify", "--surface", "glass", "--log", str(path), "--params"]
     args += [str(ROOT / "params.yaml"), "--report", str(report)]
-    args += ["--figure", str(tmp_path / "f.png")]
+    args += ["--folder", str(tmp_path / "identify")]
     assert runner.invoke(app, args).exit_code == 0
-    assert report.exists()
+    out = json.loads(report.read_text())
+    assert out["source"] == str(path) and out["mu"]["truth"] is None
+    assert abs(out["mu"]["least_squares"] - 0.45) < 0.05  # the synthetic log's slope
+    block = yaml.safe_load((tmp_path / "identify" / "surface.yaml").read_text())["glass"]
+    assert block["friction"] == round(out["mu"]["estimate"], 4)
+    assert (tmp_path / "identify" / "convergence.png").stat().st_size > 0
+    summary = json.loads((tmp_path / "summary" / "identify.json").read_text())
+    assert summary["mu_estimate"] == out["mu"]["estimate"]
 
 
 @pytest.mark.integration
 def test_identify_simulate_writes_the_round_trip_report(tmp_path):
     report = tmp_path / "identify.json"
     args = ["identify", "--surface", "glass", "--simulate", "--params", str(ROOT / "params.yaml")]
-    args += ["--report", str(report), "--figure", str(tmp_path / "f.png")]
+    args += ["--report", str(report), "--folder", str(tmp_path / "identify")]
     assert runner.invoke(app, args).exit_code == 0
     out = json.loads(report.read_text())
     assert out["mu"]["truth"] == 0.45  # glass's preset
     assert set(out["adhesion"]) == {"estimate", "truth", "least_squares"}
-    assert (tmp_path / "f.png").stat().st_size > 0
+    assert (tmp_path / "identify" / "convergence.png").stat().st_size > 0
 
 
 def test_slip_logs_are_imported_for_identify_and_bad_ones_refused(tmp_path):
@@ -82,7 +90,7 @@ def test_slip_logs_are_imported_for_identify_and_bad_ones_refused(tmp_path):
     assert list(imported.columns) == ["t", "Fx", "Fz", "load"] and len(imported) == len(_log())
     args = ["identify", "--surface", "glass", "--log", str(out / "wall.csv"), "--params"]
     args += [str(ROOT / "params.yaml"), "--report", str(tmp_path / "r.json")]
-    args += ["--figure", str(tmp_path / "f.png")]
+    args += ["--folder", str(tmp_path / "identify")]
     assert runner.invoke(app, args).exit_code == 0
 
 

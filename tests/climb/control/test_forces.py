@@ -15,40 +15,9 @@ from ftfof.climb.control.forces import (
     constraints,
     wrench_map,
 )
-from ftfof.climb.legs import sagittal_chain
+from tests.climb.control.stances import GRAVITY, MASS, STROKE, stance_of, static_wrench
 
-MASS = 0.8  # kg: the M3F climber's estimate (params.yaml, robots.mst_m3f.climber)
-GRAVITY = 9.81
-FRICTION, ADHESION = 0.6, 8.0
-WEIGHTS = (1.0, 1e-3)  # tangential, normal: the normal weight far below (climbing_slip §5.2)
-STROKE = np.array([0.02, 0.08, 0.05, 0.11])  # each foot along its stance stroke, m (FL FR HL HR)
 TOL = 1e-7  # N, N m: what the solver's 1e-9 leaves of a constraint
-
-
-def stance_of(m3f, stroke: np.ndarray = STROKE) -> Stance:
-    """Every foot on the wall at ``stroke`` from its P0, the body level, the CoM midway between
-    the hips at their height."""
-    robot = m3f.robot
-    chain = sagittal_chain(robot.leg, robot.climber.torque_limits, robot.platform.foot.ankle_height)
-    spacing = robot.climber.hip_spacing
-    hips = np.array([spacing, spacing, -spacing, -spacing])[: len(stroke)] / 2
-    feet = np.stack([stroke, np.zeros_like(stroke)], axis=1)
-    offset = feet - chain.hip + np.stack([hips, np.zeros_like(hips)], axis=1)
-    theta = chain.leg.inverse(feet)
-    n = len(stroke)
-    return Stance(
-        offset,
-        chain.leg.jacobian(theta),
-        np.full(n, FRICTION),
-        np.full(n, ADHESION),
-        np.tile(chain.torque_limits, (n, 1)),
-        np.tile(WEIGHTS, (n, 1)),
-    )
-
-
-def static_wrench() -> np.ndarray:
-    """Hanging still: the feet carry the weight along +x, no normal force, no moment."""
-    return np.array([MASS * GRAVITY, 0.0, 0.0])
 
 
 def assert_inside(stance: Stance, forces: np.ndarray) -> None:
@@ -87,11 +56,9 @@ def test_a_feasible_wrench_is_tracked_inside_every_cone(m3f):
 def test_a_poor_pad_hands_its_load_to_the_others(m3f):
     stance = stance_of(m3f)
     nominal = ForceDistributor().solve(stance, static_wrench())
-    poor = replace(
-        stance,
-        friction=np.array([FRICTION, 0.1, FRICTION, FRICTION]),
-        adhesion=np.array([ADHESION, 0.5, ADHESION, ADHESION]),
-    )
+    friction, adhesion = stance.friction.copy(), stance.adhesion.copy()
+    friction[1], adhesion[1] = 0.1, 0.5  # FR's pad barely holds
+    poor = replace(stance, friction=friction, adhesion=adhesion)
     out = ForceDistributor().solve(poor, static_wrench())
     assert out.status is Status.SOLVED
     assert np.abs(out.residual).max() < 1e-4 * MASS * GRAVITY

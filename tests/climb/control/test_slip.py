@@ -10,7 +10,7 @@ import pytest
 from ftfof.climb.control.forces import ForceDistributor
 from ftfof.climb.control.slip import SlipDetector, adapt_weights, estimate_pad, slip_rate
 from ftfof.identify.estimate import Estimate
-from tests.climb.control.test_forces import stance_of, static_wrench
+from tests.climb.control.stances import stance_of, static_wrench
 
 DT = 1e-3  # s, a control step
 THRESHOLD, HOLD = 0.01, 0.005  # m/s, s

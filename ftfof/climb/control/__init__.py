@@ -1,0 +1,1 @@
+"""The climbing robot's controller: the contact-force distribution and the slip reflexes."""

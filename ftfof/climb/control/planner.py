@@ -49,6 +49,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
+from ftfof.climb.control.forces import wrench_map
 from ftfof.config import GRAVITY, LEG_NAMES
 from ftfof.errors import FtfofError
 
@@ -285,11 +286,7 @@ def _stance(step: Step, phase: int) -> _Stance:
     adhesion = np.array([footholds[i].adhesion for i in on])
     weight = np.array([footholds[i].weight for i in on])
     k = len(on)
-    A = np.zeros((3, 2 * k))
-    A[0, 0::2] = 1.0
-    A[1, 1::2] = 1.0
-    A[2, 0::2] = -pos[:, 1]
-    A[2, 1::2] = pos[:, 0]
+    A = wrench_map(pos)
     w_inv = np.column_stack([mu * mu, np.ones(k)]).ravel() / np.repeat(weight, 2)
     AW = A * w_inv
     inverse = np.linalg.solve(AW @ A.T, AW).T  # (2k, 3): W^-1 A^T (A W^-1 A^T)^-1

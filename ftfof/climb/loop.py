@@ -98,6 +98,9 @@ class ClimbLoop:
         h = self.solver.it.currentStepSize
         gait = self.r.gait
         _, tau, swing = gait.phase(t)
+        switch = self.r.switch
+        if switch is not None and not switch.done and t >= switch.switch.time:
+            switch.apply(self.mbs, self.pads[switch.switch.leg])
         held = np.zeros(LEGS, dtype=bool)
         for leg, pad in enumerate(self.pads):
             step = pad.update(q, qd, h, t)

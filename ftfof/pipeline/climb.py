@@ -8,7 +8,7 @@ import multiprocessing
 import os
 import signal
 from concurrent.futures import ProcessPoolExecutor, as_completed
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -20,7 +20,8 @@ from ftfof.climb.imu import ImuModel, imu_channels
 from ftfof.climb.legs import stroke_breach
 from ftfof.climb.metrics import StepMetrics, StepRules, as_rows, step_metrics, summary
 from ftfof.climb.model import ClimbSpec
-from ftfof.climb.simulate import ClimbRun, chain_of, climb
+from ftfof.climb.simulate import ClimbRun, chain_of, climb, gait_of
+from ftfof.climb.surface import switch_of
 from ftfof.config import LEG_NAMES, Params
 from ftfof.digests import json_sha256
 from ftfof.errors import ParamsError
@@ -78,12 +79,13 @@ def climb_spec(
 def spec_for(
     params: Params, ctx: RobotContext, name: str, trajectory: Sampled, X: np.ndarray | None
 ) -> ClimbSpec:
-    """The climb of one trajectory: a Bezier row exactly, an analytic one Hermite-fitted."""
+    """The climb of one trajectory: a Bezier row exactly, an analytic one Hermite-fitted; a
+    ``climb.surface_change`` outside the climb is refused here, before anything runs."""
     if X is not None:
         piecewise = bench(params, ctx).bezier("climb", 0, X).trajectory
     else:
         piecewise = PiecewiseQuintic.fit(trajectory, ctx.robot.timing.T3, BASELINE_SEGMENTS)
-    return ClimbSpec(
+    spec = ClimbSpec(
         name=name,
         trajectory=piecewise,
         robot=ctx.robot,
@@ -93,6 +95,7 @@ def spec_for(
         climb=params.climb,
         seed=seed_for(params.base.seed, "climb"),
     )
+    return replace(spec, switch=switch_of(params, gait_of(spec).end))
 
 
 def climb_all(

@@ -18,7 +18,15 @@ from matplotlib.figure import Figure
 
 from ftfof.climb.imu import ImuModel, imu_channels
 from ftfof.climb.legs import stroke_breach
-from ftfof.climb.metrics import StepMetrics, StepRules, as_rows, step_metrics, summary
+from ftfof.climb.metrics import (
+    SlipTotals,
+    StepMetrics,
+    StepRules,
+    as_rows,
+    slip_totals,
+    step_metrics,
+    summary,
+)
 from ftfof.climb.model import ClimbSpec
 from ftfof.climb.simulate import ClimbRun, chain_of, climb, gait_of
 from ftfof.climb.surface import switch_of
@@ -45,6 +53,7 @@ class Climbed:
     imu: dict[str, np.ndarray]
     steps: list[StepMetrics]
     summary: dict[str, float | bool]
+    slip: SlipTotals
 
 
 def climb_spec(
@@ -163,7 +172,8 @@ def run_climb(params: Params, spec: ClimbSpec) -> Climbed:
         for k in range(spec.climb.steps)
         if run.gait.lift_off(k) < reached
     ]
-    return Climbed(spec.name, run, imu, steps, summary(steps, run.fell))
+    slip = slip_totals(c)
+    return Climbed(spec.name, run, imu, steps, {**summary(steps, run.fell), **slip.summary()}, slip)
 
 
 def write_climb(out: Climbed, out_dir: Path, title: str) -> dict[str, Path]:
@@ -186,6 +196,7 @@ def write_climb(out: Climbed, out_dir: Path, title: str) -> dict[str, Path]:
         columns[f"Fz_{L}"] = c["force"][:, 2 * leg + 1]
         columns[f"bonds_{L}"] = c["bonds"][:, leg]
         columns[f"curvature_{L}"] = c["curvature"][:, leg]
+        columns[f"slip_velocity_{L}"] = c["slip_velocity"][:, leg]
         for j in range(3):
             columns[f"joint_{L}{j + 1}"] = c["joints"][:, 3 * leg + j]
             columns[f"torque_{L}{j + 1}"] = c["torque"][:, 3 * leg + j]
@@ -203,6 +214,9 @@ def write_climb(out: Climbed, out_dir: Path, title: str) -> dict[str, Path]:
         "fall": run.fall_reason,
         "error": run.error,
         "wall_time_s": round(run.wall_time, 3),
+        "controller": run.spec.climb.controller,
+        "control": run.control,
+        "slip_by_foot": out.slip.by_foot(),
         "steps": [{k: _plain(v) for k, v in row.items()} for row in as_rows(out.steps)],
     }
     text = json.dumps(document, indent=2) + "\n"  # everything is made before anything is written

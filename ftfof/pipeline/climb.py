@@ -44,6 +44,7 @@ from ftfof.sim.spec import BASELINE_SEGMENTS
 from ftfof.trajectory.piecewise import PiecewiseQuintic, Sampled
 
 CLIMBS = "climb"  # evaluate's climbs, inside its simulations' directory
+CONTROLLERS = ("none", "weights", "replan", "both")  # climb.controller's values
 
 
 @dataclass
@@ -231,6 +232,33 @@ def write_climb(out: Climbed, out_dir: Path, title: str) -> dict[str, Path]:
     save_figure(figure, paths["figure"], dpi=100)
     save_figure(side, paths["side"], dpi=90)
     return paths
+
+
+def compare_controllers(
+    params: Params, spec: ClimbSpec, out_dir: Path, title: str
+) -> dict[str, dict[str, Any]]:
+    """``spec``'s climb (its surface change included) under each of CONTROLLERS, one after the
+    other, each written as ``<name>.<controller>.*``; returns and writes
+    ``<name>.controllers.json``: per controller its slip_distance, max_slip_velocity, fell and
+    the wall time."""
+    table: dict[str, dict[str, Any]] = {}
+    for controller in CONTROLLERS:
+        climb_ = spec.climb.model_copy(update={"controller": controller})
+        name = f"{spec.name}.{controller}"
+        out = run_climb(params, replace(spec, name=name, climb=climb_))
+        write_climb(out, out_dir, f"{title}, controller {controller}")
+        s = out.summary
+        table[controller] = {
+            "slip_distance": _plain(s["slip_distance"]),
+            "max_slip_velocity": _plain(s["max_slip_velocity"]),
+            "fell": out.run.fell,
+            "fall": out.run.fall_reason,
+            "steps_done": _plain(s["steps_done"]),
+            "control": out.run.control,
+            "wall_time_s": round(out.run.wall_time, 3),
+        }
+    write_json(out_dir / f"{spec.name}.controllers.json", {"slip": table})
+    return table
 
 
 def side_view(out: Climbed, title: str) -> Figure:

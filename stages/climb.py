@@ -34,27 +34,53 @@ def command(
     allow_infeasible: Annotated[
         bool, typer.Option(help="Climb a trajectory the robot's rules refuse; named -infeasible.")
     ] = False,
+    controller: Annotated[
+        str | None,
+        typer.Option(
+            help="The stance force control: none, weights, replan or both (climb.controller)."
+        ),
+    ] = None,
+    compare_controllers: Annotated[
+        bool, typer.Option(help="Climb once with each controller; writes <name>.controllers.json.")
+    ] = False,
 ) -> None:
     """Climb the wall with the whole robot (climb.steps swings, one leg at a time), the swinging
     foot on the given trajectory; writes its channels, IMU, per-step metrics and traces."""
     from ftfof.errors import ParamsError
     from ftfof.pipeline.bench import check_points, context_of, parse_points
-    from ftfof.pipeline.climb import climb_spec, run_climb, write_climb
+    from ftfof.pipeline.climb import CONTROLLERS, climb_spec, run_climb, write_climb
+    from ftfof.pipeline.climb import compare_controllers as compare
     from ftfof.pipeline.export import Source
     from ftfof.pipeline.params_file import load_params
 
     if sum((baseline is not None, points is not None, row is not None, optimum)) != 1:
         raise ParamsError("climb", "give exactly one of --baseline, --points, --row, --optimum")
     params = load_params(params_path)
+    if controller is not None:
+        if controller not in CONTROLLERS:
+            raise ParamsError(
+                "--controller", f"{controller!r} is not one of {', '.join(CONTROLLERS)}"
+            )
+        params = params.model_copy(
+            update={"climb": params.climb.model_copy(update={"controller": controller})}
+        )
     X = None
     if points is not None:
         X = parse_points(points, unit)
         check_points(X, unit, context_of(params), allow_infeasible)
     source = Source(row=row, baseline=baseline, points=X)
     name, spec = climb_spec(params, source, optimize, allow_infeasible)
+    title = f"{params.robot} on {params.surface}: {name}"
+    if compare_controllers:
+        for key, row in compare(params, spec, out_dir, title).items():
+            fell = f"FELL: {row['fall']}" if row["fell"] else "climbed"
+            console.print(
+                f"  {key:8s} slip {1e3 * row['slip_distance']:8.3f} mm, peak"
+                f" {1e3 * row['max_slip_velocity']:7.2f} mm/s, {fell} ({row['wall_time_s']:.0f} s)"
+            )
+        return
     out = run_climb(params, spec)
     run = out.run
-    title = f"{params.robot} on {params.surface}: {name}"
     paths = write_climb(out, out_dir, title)
     s = out.summary
     state = (

@@ -6,7 +6,9 @@ wall patch's normal force; the foot's sole spreads it over the pad) and releases
 over the body's advance that follows; sets
 the joint targets from the gait through each leg's inverse kinematics against the body's plan;
 records the channels at the record rate; and stops the run cleanly when the robot falls: a
-stance pad fully let go, or the body ``climb.fall_distance`` off its plan.
+stance pad fully let go, or the body ``climb.fall_distance`` off its plan. With a
+``climb.controller``, it adds the stance feet's force control to the servos at its control rate
+(:mod:`ftfof.climb.control.feedforward`) and tracks the body plan that control hands it.
 """
 
 from __future__ import annotations
@@ -19,6 +21,8 @@ import exudyn as exu
 import numpy as np
 from numpy.typing import NDArray
 
+from ftfof.climb.control.feedforward import CONTROL_RATE_HZ, ESTIMATE_SAMPLES, FeedForward
+from ftfof.climb.control.replan import BodyPlan
 from ftfof.climb.gait import LEGS, min_jerk
 from ftfof.climb.model import BASE, JOINTS, Climber
 from ftfof.config import LEG_NAMES
@@ -41,6 +45,7 @@ CHANNELS = (
     ("joints", JOINTS * LEGS),  # chain angles relative to the trunk
     ("torque", JOINTS * LEGS),
     ("swing", 1),  # the leg whose step it is (swing, landing hold, advance), -1 before the first
+    ("slip_velocity", LEGS),  # each stance pad's velocity along its patch, m/s (0 off the stance)
 )
 
 
@@ -53,7 +58,13 @@ class Fall:
 class ClimbLoop:
     """Per-climb state shared by the pre-step function."""
 
-    def __init__(self, robot: Climber, solver: exu.MainSolverImplicitSecondOrder, rate: float):
+    def __init__(
+        self,
+        robot: Climber,
+        solver: exu.MainSolverImplicitSecondOrder,
+        rate: float,
+        control: FeedForward | None = None,
+    ):
         spec = robot.spec
         self.r, self.solver = robot, solver
         self.mbs = robot.mbs
@@ -91,6 +102,11 @@ class ClimbLoop:
         self.steps = 0
         self.held = np.ones(LEGS, dtype=bool)
         self.sole_on = -1  # the leg whose sole presses now
+        self.control = control
+        self.plan: BodyPlan = robot.gait.body  # the control's re-planner may replace it
+        self.feedforward = np.zeros_like(self.offsets)
+        self.next_control = 0.0
+        self.force_columns = channel_slices()["force"]
 
     def __call__(self, mbs, t: float) -> bool:
         q = self.data.GetODE2Coordinates(copy=False)
@@ -98,6 +114,9 @@ class ClimbLoop:
         h = self.solver.it.currentStepSize
         gait = self.r.gait
         _, tau, swing = gait.phase(t)
+        switch = self.r.switch
+        if switch is not None and not switch.done and t >= switch.switch.time:
+            switch.apply(self.mbs, self.pads[switch.switch.leg])
         held = np.zeros(LEGS, dtype=bool)
         for leg, pad in enumerate(self.pads):
             step = pad.update(q, qd, h, t)
@@ -107,6 +126,9 @@ class ClimbLoop:
             self._press(swing, tau, q, qd)
         self._sole(tau, swing)
         self._targets(t, tau, swing)
+        if self.control is not None and t >= self.next_control - 1e-12:
+            self._control(t, q, qd, tau, swing)
+            self.next_control += 1.0 / CONTROL_RATE_HZ
         self.steps += 1
         if self.steps % 64 == 0:
             if not np.isfinite(q).all():
@@ -126,10 +148,53 @@ class ClimbLoop:
         qd = self.data.GetODE2Coordinates_t(copy=False)
         gait = self.r.gait
         _, tau, swing = gait.phase(t)
-        self._record(t, q, qd, swing)
-        self.next_record += self.every
         landing = swing if tau < gait.swing + gait.hold else -1  # its pad bonds in the hold
+        self._record(t, q, qd, swing, self._stance(landing))
+        self.next_record += self.every
         return not self._fell(t, q, self.held, landing)
+
+    def _stance(self, landing: int) -> Array:
+        """The feet holding the robot: bonded, and not the leg in its swing or landing hold."""
+        stance = self.held.copy()
+        if landing >= 0:
+            stance[landing] = False
+        return stance
+
+    def _control(self, t: float, q: Array, qd: Array, tau: float, swing: int) -> None:
+        """One control step: the stance feet's forces, as the servos' feed-forward torques."""
+        assert self.control is not None
+        gait, b = self.r.gait, self.tree
+        landing = swing if swing >= 0 and tau < gait.swing + gait.hold else -1
+        stance = self._stance(landing)
+        torques, plan = self.control.step(
+            t,
+            q[b : b + BASE].copy(),
+            qd[b : b + BASE].copy(),
+            self.plan,
+            q[b + BASE : b + BASE + JOINTS * LEGS].reshape(LEGS, JOINTS),
+            self.foot_ref[:, 0] + q[self.feet],
+            stance,
+            self._slip_velocity(qd, stance),
+            self._forces,
+        )
+        if plan is not None:
+            self.plan = plan
+        self.feedforward[BASE:] = torques.ravel()
+        self.mbs.SetObjectParameter(self.r.tree, "jointForceVector", self.feedforward.tolist())
+
+    def _slip_velocity(self, qd: Array, stance: Array) -> Array:
+        """Each stance pad's velocity along its wall patch: its film nodes' mean (the foot above
+        it rocks on its ankle; the pad's nodes are what slide), 0 off the stance."""
+        film = np.array([qd[idx].mean() for idx in self.node_index])
+        return np.where(stance, film - qd[self.patches], 0.0)
+
+    def _forces(self, leg: int) -> tuple[Array, Array] | None:
+        """The wall's force on ``leg``'s foot over the last ESTIMATE_SAMPLES records: (f_n, f_t),
+        f_n > 0 pressing (the force channel is the pad's on the wall: negated)."""
+        if self.count < ESTIMATE_SAMPLES:
+            return None
+        f = self.rows[self.count - ESTIMATE_SAMPLES : self.count, self.force_columns]
+        return -f[:, 2 * leg + 1], -f[:, 2 * leg]
 
     def _press(self, leg: int, tau: float, q: Array, qd: Array) -> None:
         """In the landing hold, an integral loop on the leg's wall patch: it reads a.
@@ -182,7 +247,7 @@ class ClimbLoop:
         """Joint targets: each foot's gait target, relative to the hip on the body's plan."""
         gait, chain = self.r.gait, self.r.chain
         feet, feet_v = gait.feet(t)
-        body, body_v = gait.body(np.array([t]))
+        body, body_v = self.plan(np.array([t]))
         feet[:, 1] -= self._applied_press(tau, swing)
         rel = feet.copy()  # in each leg's trajectory frame: x from its hip's P0, z off the wall
         rel[:, 0] += chain.hip[0] - body[0] - gait.hips
@@ -199,14 +264,16 @@ class ClimbLoop:
         setp(self.r.tree, "jointPositionOffsetVector", self.offsets.tolist())
         setp(self.r.tree, "jointVelocityOffsetVector", self.rates.tolist())
 
-    def _record(self, t: float, q: Array, qd: Array, swing: int) -> None:
+    def _record(self, t: float, q: Array, qd: Array, swing: int, stance: Array) -> None:
         if self.count >= len(self.rows):
             return
         qdd = self.data.GetODE2Coordinates_tt(copy=False)
         b = self.tree
         joints = slice(b + BASE, b + BASE + JOINTS * LEGS)
-        torque = self.kp * (self.offsets[BASE:] - q[joints]) + self.kd * (
-            self.rates[BASE:] - qd[joints]
+        torque = (
+            self.kp * (self.offsets[BASE:] - q[joints])
+            + self.kd * (self.rates[BASE:] - qd[joints])
+            + self.feedforward[BASE:]
         )
         sensor, mass = self.sensor, self.sensor.plate_mass
         px, pz = self.patches, self.patches + 1
@@ -220,7 +287,8 @@ class ClimbLoop:
         curvature = np.zeros(LEGS)
         if swing >= 0:
             curvature[swing] = self._curvature(q, swing)
-        plan, _ = self.r.gait.body(np.array([t]))
+        plan, _ = self.plan(np.array([t]))
+        slip = self._slip_velocity(qd, stance)
         self.rows[self.count] = np.concatenate(
             [
                 [t],
@@ -236,6 +304,7 @@ class ClimbLoop:
                 q[joints],
                 torque,
                 [swing],
+                slip,
             ]
         )
         self.count += 1
@@ -258,7 +327,7 @@ class ClimbLoop:
         if t > self.r.gait.start and not held[stance].all():
             leg = int(np.flatnonzero(stance & ~held)[0])
             self.fall = Fall(t, f"the {LEG_NAMES[leg]} stance pad let go at t = {t:.3f} s")
-        plan, _ = self.r.gait.body(np.array([t]))
+        plan, _ = self.plan(np.array([t]))
         b = self.tree
         off = math.hypot(q[b] - plan[0], q[b + 1])
         if self.fall is None and off > self.fall_distance:

@@ -14,6 +14,10 @@ platform's shape, so the platform's definitions apply unchanged (:mod:`ftfof.dat
 - ``torque_ratio``: the largest servo torque over its limit, any leg and joint (over 1: the
   servos could not have held the plan), and ``torque``, which joint and how much;
 - ``release``: the platform's release verdict (:func:`ftfof.data.release.release_fault`).
+
+Over the whole climb (:func:`slip_totals`), each stance pad's slip on its wall patch: its
+distance, the integral of its speed along the patch while in stance (elastic sway included), and
+its peak speed.
 """
 
 from __future__ import annotations
@@ -183,3 +187,32 @@ def summary(steps: list[StepMetrics], fell: bool) -> dict[str, float | bool]:
 
 def as_rows(steps: list[StepMetrics]) -> list[dict]:
     return [asdict(s) for s in steps]
+
+
+@dataclass(frozen=True)
+class SlipTotals:
+    """Each stance pad's slip over a climb, per leg (FL FR HL HR)."""
+
+    distance: Array  # (4,) m: the integral of |slip velocity| over the recorded climb
+    peak: Array  # (4,) m/s: the largest |slip velocity|
+
+    def summary(self) -> dict[str, float]:
+        """The climb's figures: the feet's distances summed, the fastest foot's peak."""
+        return {
+            "slip_distance": float(self.distance.sum()),
+            "max_slip_velocity": float(self.peak.max(initial=0.0)),
+        }
+
+    def by_foot(self) -> dict[str, dict[str, float]]:
+        return {
+            leg: {"slip_distance": float(d), "max_slip_velocity": float(v)}
+            for leg, d, v in zip(LEG_NAMES, self.distance, self.peak, strict=True)
+        }
+
+
+def slip_totals(c: dict[str, Array]) -> SlipTotals:
+    """:class:`SlipTotals` of a climb's channels (``slip_velocity`` is 0 off the stance)."""
+    speed = np.abs(c["slip_velocity"])
+    if c["t"].size < 2:
+        return SlipTotals(np.zeros(LEGS), speed.max(axis=0, initial=0.0))
+    return SlipTotals(np.trapezoid(speed, c["t"], axis=0), speed.max(axis=0))

@@ -46,6 +46,7 @@ from exudyn.itemInterface import (
 import ftfof.config as config
 from ftfof.climb.gait import LEGS, Gait
 from ftfof.climb.legs import SagittalChain
+from ftfof.climb.surface import PadSwitch, SurfaceSwitch
 from ftfof.sim.bonds import BondLaw
 from ftfof.sim.joint_leg import ATTACH_DAMPING, ATTACH_STIFFNESS, SERVO_LINK_MASS, tree_node
 from ftfof.sim.pad import add_bonds, add_film, add_sole, film_grid
@@ -69,6 +70,7 @@ class ClimbSpec:
     solver: config.Solver
     climb: config.Climb
     seed: int  # the IMU's noise
+    switch: SurfaceSwitch | None = None  # climb.surface_change, resolved (ftfof.climb.surface)
 
 
 @dataclass
@@ -92,6 +94,7 @@ class Climber:
     initial_pressure: float  # Pa over each pad
     q0: np.ndarray  # the tree's initial coordinates
     keep: list[Any] = field(default_factory=list)  # symbolic functions must outlive the solve
+    switch: PadSwitch | None = None  # the pad that changes surface mid-climb, if one does
 
     @property
     def hips(self) -> np.ndarray:
@@ -212,6 +215,10 @@ def build(spec: ClimbSpec, chain: SagittalChain, gait: Gait, law: BondLaw) -> Cl
         pads.append(PadParts(nodes, elements, stop, connectors, patch, x_ref, area))
         feet.append(foot_node)
         springs.append(spring)
+    switch = None
+    if spec.switch is not None:
+        other = BondLaw.from_surface(spec.switch.surface, spec.solver.contact_smoothing)
+        switch = PadSwitch(mbs, spec.switch, other, pads[spec.switch.leg])
     imu = mbs.AddSensor(
         SensorKinematicTree(
             objectNumber=tree,
@@ -240,6 +247,7 @@ def build(spec: ClimbSpec, chain: SagittalChain, gait: Gait, law: BondLaw) -> Cl
         initial_pressure=initial_pressure,
         q0=q0,
         keep=keep,
+        switch=switch,
     )
 
 

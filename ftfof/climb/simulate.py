@@ -7,19 +7,22 @@ a non-finite state makes the climb ``failed`` with the message, never an excepti
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 
 import exudyn as exu
 import numpy as np
 from numpy.typing import NDArray
 
 import ftfof.config as config
-from ftfof.climb.gait import Gait
+from ftfof.climb.control.feedforward import FeedForward, Pads
+from ftfof.climb.control.replan import Replanner, keep_plan
+from ftfof.climb.gait import LEGS, Gait
 from ftfof.climb.legs import SagittalChain, sagittal_chain
 from ftfof.climb.loop import ClimbLoop, channel_slices
-from ftfof.climb.model import Climber, ClimbSpec, build
+from ftfof.climb.model import Climber, ClimbSpec, build, robot_mass
 from ftfof.sim.bonds import BondLaw
 from ftfof.sim.settings import solver_settings
+from ftfof.sim.slip import adhesion_truth
 
 Array = NDArray[np.float64]
 
@@ -37,6 +40,7 @@ class ClimbRun:
     wall_time: float
     steps: int  # solver steps
     imu_reference: Array = field(repr=False)  # (T, 4) t, ax, az, angular acc. from the solver
+    control: dict[str, int] = field(default_factory=dict)  # what the controller did, if any
 
     @property
     def ok(self) -> bool:
@@ -69,8 +73,34 @@ def gait_of(spec: ClimbSpec) -> Gait:
     )
 
 
-def climb(spec: ClimbSpec, duration: float | None = None) -> ClimbRun:
-    """Run one climb (``duration``: stop early, for tests and benchmarks)."""
+def controller_of(model: Climber, replanner: Replanner) -> FeedForward | None:
+    """The stance feet's force control ``climb.controller`` asks for (None: off). It believes
+    every pad is on the selected surface, pressed to the pre-pressure: F_adh as the bond law
+    gives it (:func:`ftfof.sim.slip.adhesion_truth`)."""
+    spec = model.spec
+    mode = spec.climb.controller
+    if mode is None:
+        return None
+    climber = spec.robot.climber
+    assert climber is not None
+    area = float(model.pads[0].area.sum())
+    adhesion = adhesion_truth(model.law, spec.robot.pre_pressure, area)
+    return FeedForward(
+        mode=mode,
+        chain=model.chain,
+        mass=robot_mass(spec.robot),
+        inertia=climber.trunk_inertia,
+        com_height=float(model.chain.hip[1]),
+        pads=Pads(np.full(LEGS, model.law.friction), np.full(LEGS, adhesion)),
+        replanner=replanner,
+    )
+
+
+def climb(
+    spec: ClimbSpec, duration: float | None = None, replanner: Replanner = keep_plan
+) -> ClimbRun:
+    """Run one climb (``duration``: stop early, for tests and benchmarks; ``replanner``: the
+    body's re-planner of the replan and both controllers)."""
     exu.config.printToConsole = False
     started = time.perf_counter()
     gait, chain = gait_of(spec), chain_of(spec.robot)
@@ -78,7 +108,8 @@ def climb(spec: ClimbSpec, duration: float | None = None) -> ClimbRun:
     model: Climber = build(spec, chain, gait, law)
     solver = exu.MainSolverImplicitSecondOrder()
     rate = max(spec.climb.imu_rate_hz, spec.platform.sensor.rate_hz)
-    loop = ClimbLoop(model, solver, rate)
+    control = controller_of(model, replanner)
+    loop = ClimbLoop(model, solver, rate, control)
     model.mbs.SetPreStepUserFunction(loop)
     model.mbs.SetPostStepUserFunction(loop.after_step)
     end = gait.end if duration is None else duration
@@ -105,4 +136,5 @@ def climb(spec: ClimbSpec, duration: float | None = None) -> ClimbRun:
         wall_time=time.perf_counter() - started,
         steps=loop.steps,
         imu_reference=np.asarray(model.mbs.GetSensorStoredData(model.imu_sensor)),
+        control=asdict(control.counts) if control else {},
     )

@@ -59,6 +59,11 @@ class Params(Strict):
             ("robot", self.robot, self.robots),
             ("surface", self.surface, self.surfaces),
             ("identify.surface", self.identify.surface or self.surface, self.surfaces),
+            *(
+                [("climb.surface_change.surface", change.surface, self.surfaces)]
+                if (change := self.climb.surface_change)
+                else []
+            ),
         ):
             if name not in presets:
                 raise ValueError(f"{key}: {name!r} is not a preset (have {', '.join(presets)})")

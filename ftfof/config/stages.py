@@ -192,6 +192,18 @@ class Evaluate(Strict):
     climb: bool = True
 
 
+class SurfaceChange(Strict):
+    """One foot's pad finds another surface mid-climb (issue 40): from ``time`` on, that pad's
+    bonds follow the other preset's law (its friction and adhesion) where they hold."""
+
+    foot: Literal["FL", "FR", "HL", "HR"]  # ftfof.config.LEG_NAMES
+    time: PositiveFloat  # s into the climb; before its end (checked where the climb is built)
+    surface: str  # a preset of ``surfaces``
+
+
+Controller = Literal["none", "weights", "replan", "both"]
+
+
 class Climb(Strict):
     """The climbing robot's run (ftfof/climb; docs/climb.md): a crawl up a vertical wall."""
 
@@ -205,6 +217,9 @@ class Climb(Strict):
     imu_gyro_noise: NonNegativeFloat = 0.0  # rad/s
     imu_gyro_bias: float = 0.0  # rad/s
     time_budget: PositiveFloat = 300.0  # wall seconds per climb before it is stopped as failed
+    surface_change: SurfaceChange | None = None  # null: every pad on the selected surface
+    # the stance feet's force control (docs/climb.md, "Slip"); null: none, the joint PD alone
+    controller: Controller | None = None
 
 
 def _ascending(values: list[float]) -> list[float]:

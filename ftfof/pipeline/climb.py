@@ -8,7 +8,7 @@ import multiprocessing
 import os
 import signal
 from concurrent.futures import ProcessPoolExecutor, as_completed
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -18,9 +18,18 @@ from matplotlib.figure import Figure
 
 from ftfof.climb.imu import ImuModel, imu_channels
 from ftfof.climb.legs import stroke_breach
-from ftfof.climb.metrics import StepMetrics, StepRules, as_rows, step_metrics, summary
+from ftfof.climb.metrics import (
+    SlipTotals,
+    StepMetrics,
+    StepRules,
+    as_rows,
+    slip_totals,
+    step_metrics,
+    summary,
+)
 from ftfof.climb.model import ClimbSpec
-from ftfof.climb.simulate import ClimbRun, chain_of, climb
+from ftfof.climb.simulate import ClimbRun, chain_of, climb, gait_of
+from ftfof.climb.surface import switch_of
 from ftfof.config import LEG_NAMES, Params
 from ftfof.digests import json_sha256
 from ftfof.errors import ParamsError
@@ -35,6 +44,7 @@ from ftfof.sim.spec import BASELINE_SEGMENTS
 from ftfof.trajectory.piecewise import PiecewiseQuintic, Sampled
 
 CLIMBS = "climb"  # evaluate's climbs, inside its simulations' directory
+CONTROLLERS = ("none", "weights", "replan", "both")  # climb.controller's values
 
 
 @dataclass
@@ -44,6 +54,7 @@ class Climbed:
     imu: dict[str, np.ndarray]
     steps: list[StepMetrics]
     summary: dict[str, float | bool]
+    slip: SlipTotals
 
 
 def climb_spec(
@@ -78,12 +89,13 @@ def climb_spec(
 def spec_for(
     params: Params, ctx: RobotContext, name: str, trajectory: Sampled, X: np.ndarray | None
 ) -> ClimbSpec:
-    """The climb of one trajectory: a Bezier row exactly, an analytic one Hermite-fitted."""
+    """The climb of one trajectory: a Bezier row exactly, an analytic one Hermite-fitted; a
+    ``climb.surface_change`` outside the climb is refused here, before anything runs."""
     if X is not None:
         piecewise = bench(params, ctx).bezier("climb", 0, X).trajectory
     else:
         piecewise = PiecewiseQuintic.fit(trajectory, ctx.robot.timing.T3, BASELINE_SEGMENTS)
-    return ClimbSpec(
+    spec = ClimbSpec(
         name=name,
         trajectory=piecewise,
         robot=ctx.robot,
@@ -93,6 +105,7 @@ def spec_for(
         climb=params.climb,
         seed=seed_for(params.base.seed, "climb"),
     )
+    return replace(spec, switch=switch_of(params, gait_of(spec).end))
 
 
 def climb_all(
@@ -160,7 +173,8 @@ def run_climb(params: Params, spec: ClimbSpec) -> Climbed:
         for k in range(spec.climb.steps)
         if run.gait.lift_off(k) < reached
     ]
-    return Climbed(spec.name, run, imu, steps, summary(steps, run.fell))
+    slip = slip_totals(c)
+    return Climbed(spec.name, run, imu, steps, {**summary(steps, run.fell), **slip.summary()}, slip)
 
 
 def write_climb(out: Climbed, out_dir: Path, title: str) -> dict[str, Path]:
@@ -183,6 +197,7 @@ def write_climb(out: Climbed, out_dir: Path, title: str) -> dict[str, Path]:
         columns[f"Fz_{L}"] = c["force"][:, 2 * leg + 1]
         columns[f"bonds_{L}"] = c["bonds"][:, leg]
         columns[f"curvature_{L}"] = c["curvature"][:, leg]
+        columns[f"slip_velocity_{L}"] = c["slip_velocity"][:, leg]
         for j in range(3):
             columns[f"joint_{L}{j + 1}"] = c["joints"][:, 3 * leg + j]
             columns[f"torque_{L}{j + 1}"] = c["torque"][:, 3 * leg + j]
@@ -200,6 +215,9 @@ def write_climb(out: Climbed, out_dir: Path, title: str) -> dict[str, Path]:
         "fall": run.fall_reason,
         "error": run.error,
         "wall_time_s": round(run.wall_time, 3),
+        "controller": run.spec.climb.controller,
+        "control": run.control,
+        "slip_by_foot": out.slip.by_foot(),
         "steps": [{k: _plain(v) for k, v in row.items()} for row in as_rows(out.steps)],
     }
     text = json.dumps(document, indent=2) + "\n"  # everything is made before anything is written
@@ -214,6 +232,33 @@ def write_climb(out: Climbed, out_dir: Path, title: str) -> dict[str, Path]:
     save_figure(figure, paths["figure"], dpi=100)
     save_figure(side, paths["side"], dpi=90)
     return paths
+
+
+def compare_controllers(
+    params: Params, spec: ClimbSpec, out_dir: Path, title: str
+) -> dict[str, dict[str, Any]]:
+    """``spec``'s climb (its surface change included) under each of CONTROLLERS, one after the
+    other, each written as ``<name>.<controller>.*``; returns and writes
+    ``<name>.controllers.json``: per controller its slip_distance, max_slip_velocity, fell and
+    the wall time."""
+    table: dict[str, dict[str, Any]] = {}
+    for controller in CONTROLLERS:
+        climb_ = spec.climb.model_copy(update={"controller": controller})
+        name = f"{spec.name}.{controller}"
+        out = run_climb(params, replace(spec, name=name, climb=climb_))
+        write_climb(out, out_dir, f"{title}, controller {controller}")
+        s = out.summary
+        table[controller] = {
+            "slip_distance": _plain(s["slip_distance"]),
+            "max_slip_velocity": _plain(s["max_slip_velocity"]),
+            "fell": out.run.fell,
+            "fall": out.run.fall_reason,
+            "steps_done": _plain(s["steps_done"]),
+            "control": out.run.control,
+            "wall_time_s": round(out.run.wall_time, 3),
+        }
+    write_json(out_dir / f"{spec.name}.controllers.json", {"slip": table})
+    return table
 
 
 def side_view(out: Climbed, title: str) -> Figure:

@@ -193,6 +193,36 @@ def add_bonds(
 ) -> tuple[list[Any], Any]:
     """One bond connector per film node, bonded with the preload of ``initial_pressure``;
     returns (connectors, their shared symbolic force law, which must outlive the solve)."""
+    phi0 = float(law.preload_factor(initial_pressure))
+    connectors: list[Any] = []
+    for i, node in enumerate(film_nodes):
+        obj = mbs.AddObject(
+            CartesianSpringDamper(
+                markerNumbers=[plate_marker, mbs.AddMarker(MarkerNodePosition(nodeNumber=node))],
+                stiffness=bond_stiffness(law, float(area[i])),
+                damping=[0.0, phi0, 0.0],
+                offset=[x_ref[i], 0.0, 0.0],
+            )
+        )
+        connectors.append(obj)
+    return connectors, _shared_law(mbs, connectors, _bond_force(law))
+
+
+def bond_law(mbs: Any, law: BondLaw) -> Any:
+    """The bonds' symbolic force law on ``law``'s surface, set on no connector yet: a pad that
+    moves to another surface mid-run takes it (it must outlive the solve)."""
+    return _shared_law(mbs, [], _bond_force(law))
+
+
+def bond_stiffness(law: BondLaw, area: float) -> list[float]:
+    """A bond connector's stiffness parameter: [K_t A, K A, Kc A]."""
+    return [law.shear_stiffness * area, law.stiffness * area, law.contact_stiffness * area]
+
+
+def _bond_force(law: BondLaw) -> Any:
+    """The bond connector's force law (:mod:`ftfof.sim.bonds`): the surface's friction and
+    contact constants are baked in; the bond's state comes in through the connector's
+    parameters."""
     w, hc, mu, vf = law.contact_smoothing, law.hunt_crossley, law.friction, law.friction_speed
 
     def bond_force(mbs, t, itemNumber, u, v, k, d, offset):
@@ -202,20 +232,4 @@ def add_bonds(
         ft = bonded * k[0] * u[0] + d[0] * mu * contact * esym.tanh(v[0] / vf)
         return [ft, fn, 0]
 
-    phi0 = float(law.preload_factor(initial_pressure))
-    connectors: list[Any] = []
-    for i, node in enumerate(film_nodes):
-        obj = mbs.AddObject(
-            CartesianSpringDamper(
-                markerNumbers=[plate_marker, mbs.AddMarker(MarkerNodePosition(nodeNumber=node))],
-                stiffness=[
-                    law.shear_stiffness * area[i],
-                    law.stiffness * area[i],
-                    law.contact_stiffness * area[i],
-                ],
-                damping=[0.0, phi0, 0.0],
-                offset=[x_ref[i], 0.0, 0.0],
-            )
-        )
-        connectors.append(obj)
-    return connectors, _shared_law(mbs, connectors, bond_force)
+    return bond_force

@@ -1,0 +1,195 @@
+"""The stance feet's force control in the climb: the contact-force QP's torques as a feed-forward
+on the joint PD (``climb.controller``, docs/climb.md "Slip").
+
+Each control step (CONTROL_RATE_HZ, the force sensor's rate; the torques hold in between):
+
+1. the stance feet: on the wall, and not the leg in its swing or landing hold (that one's press
+   is the press loop's);
+2. each foot's :class:`~ftfof.climb.control.forces.Stance`: its pad's offset from the CoM, its
+   leg's Jacobian turned by the trunk's pitch into the wall frame, its pad's mu and F_adh, its
+   servo limits and its QP weights;
+3. the trunk wrench: the robot's weight carried up the wall, plus a PD on the body's error from
+   its plan (x) and from the wall's plane (z, pitch);
+4. the QP's forces, and their torques -J^T f as the servos' feed-forward.
+
+The CoM is the trunk's: the legs are a quarter of the mass and sit about the hips, so the
+wrench's moment leaves them out. Controllers:
+
+- ``none``: the QP at the nominal weights and the nominal pads;
+- ``weights``: a stance foot detected slipping (:class:`~ftfof.climb.control.slip.SlipDetector`)
+  gets its weights adapted by its slip rate (climbing_slip §5);
+- ``replan``: a foot detected slipping has its pad estimated from its last ESTIMATE_SAMPLES force
+  samples; the estimate replaces the nominal pad in the QP, and goes to the re-planner
+  (:mod:`ftfof.climb.control.replan`), whose plan the loop then tracks;
+- ``both``: the two together.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ftfof.climb.control.forces import ForceDistributor, Stance
+from ftfof.climb.control.replan import BodyPlan, Replanner, ReplanRequest
+from ftfof.climb.control.slip import SlipDetector, adapt_weights, estimate_pad, slip_rate
+from ftfof.climb.legs import SagittalChain
+from ftfof.config import GRAVITY
+from ftfof.identify.estimate import Estimate
+
+Array = NDArray[np.float64]
+CONTROL_RATE_HZ = 1000.0
+NOMINAL_WEIGHTS = (1.0, 1e-3)  # tangential, normal: the normal far below (climbing_slip §5.2)
+SLIP_THRESHOLD = 5e-3  # m/s: a stance pad sliding on its patch faster than this may slip
+SLIP_HOLD = 0.01  # s above the threshold before a slip is declared
+SLIP_SPAN = 0.02  # m/s: the slip rate's scale above the threshold (slip_rate)
+BODY_BANDWIDTH_HZ = 5.0  # the trunk wrench's PD, critically damped
+ESTIMATE_SAMPLES = 15  # force samples per estimate (the Kalman estimator's window)
+
+# a foot's last ESTIMATE_SAMPLES forces on it (f_n, f_t), or None while there are fewer
+ForceWindow = Callable[[int], tuple[Array, Array] | None]
+
+
+@dataclass(frozen=True)
+class Pads:
+    """Each foot's pad as the controller believes it."""
+
+    friction: Array  # (4,) mu
+    adhesion: Array  # (4,) F_adh, N
+
+
+@dataclass
+class Counts:
+    """What the controller did over a climb (the climb's JSON reports it)."""
+
+    solves: int = 0
+    failed: int = 0  # steps whose QP found no answer: no feed-forward for them
+    slips: int = 0  # slips declared (a foot's rising edge)
+    estimates: int = 0  # pads re-estimated
+    replans: int = 0  # new plans the re-planner gave
+
+
+@dataclass
+class FeedForward:
+    """The controller of one climb; :meth:`step` returns the servos' feed-forward torques."""
+
+    mode: str  # none | weights | replan | both
+    chain: SagittalChain
+    mass: float  # the whole robot's, kg
+    inertia: float  # the trunk's pitch inertia, kg m^2
+    com_height: float  # the trunk's CoM above the wall at z = 0, m
+    pads: Pads
+    replanner: Replanner
+    distributor: ForceDistributor = field(default_factory=ForceDistributor)
+    detector: SlipDetector = field(
+        default_factory=lambda: SlipDetector(threshold=SLIP_THRESHOLD, hold=SLIP_HOLD)
+    )
+    counts: Counts = field(default_factory=Counts)
+
+    def __post_init__(self) -> None:
+        self.weights = np.tile(NOMINAL_WEIGHTS, (len(self.pads.friction), 1))
+        self.believed = Pads(self.pads.friction.copy(), self.pads.adhesion.copy())
+
+    def step(
+        self,
+        t: float,
+        body: Array,
+        body_rate: Array,
+        plan: BodyPlan,
+        theta: Array,
+        feet: Array,
+        stance: Array,
+        slip_velocity: Array,
+        forces: ForceWindow,
+    ) -> tuple[Array, BodyPlan | None]:
+        """(4, 3) feed-forward torques (zero for the feet off the stance, and for all if the QP
+        fails), and a new body plan where a slip made the re-planner give one."""
+        dt = 1.0 / CONTROL_RATE_HZ
+        was = self.detector.slipping.copy()
+        slipping = self.detector.update(slip_velocity, stance, dt)
+        self.counts.slips += int(np.count_nonzero(slipping & ~was))
+        weights = self.weights
+        if self.mode in ("weights", "both"):
+            weights = adapt_weights(
+                weights, slip_rate(slip_velocity, SLIP_THRESHOLD, SLIP_SPAN) * slipping
+            )
+        new_plan = None
+        if self.mode in ("replan", "both"):
+            for foot in np.flatnonzero(slipping & ~was):
+                new_plan = self._replan(t, int(foot), forces, stance, feet, body, body_rate, plan)
+                plan = new_plan or plan
+        out = np.zeros((len(stance), 3))
+        on = np.flatnonzero(stance)
+        wrench = self._wrench(t, body, body_rate, plan)
+        result = self.distributor.solve(self._stance(on, body, theta, feet, weights), wrench)
+        self.counts.solves += 1
+        if not result.solved:
+            self.counts.failed += 1
+            return out, new_plan
+        out[on] = result.torques
+        return out, new_plan
+
+    def _stance(self, on: Array, body: Array, theta: Array, feet: Array, weights: Array) -> Stance:
+        c, s = math.cos(body[2]), math.sin(body[2])
+        turn = np.array([[c, -s], [s, c]])  # trunk frame -> wall frame
+        offset = np.stack([feet[on] - body[0], np.full(len(on), -self.com_height - body[1])], 1)
+        return Stance(
+            offset=offset,
+            jacobian=turn @ self.chain.leg.jacobian(theta[on]),
+            friction=self.believed.friction[on],
+            adhesion=self.believed.adhesion[on],
+            torque_limit=np.tile(self.chain.torque_limits, (len(on), 1)),
+            weight=weights[on],
+        )
+
+    def _wrench(self, t: float, body: Array, body_rate: Array, plan: BodyPlan) -> Array:
+        """The weight up the wall, and a critically damped PD toward the plan: x on the plan,
+        z on the wall's plane (0), pitch level."""
+        x, v = plan(np.array([t]))
+        w = 2 * math.pi * BODY_BANDWIDTH_HZ
+        target = np.array([x[0], 0.0, 0.0])
+        rate = np.array([v[0], 0.0, 0.0])
+        pd = w * w * (target - body) + 2 * w * (rate - body_rate)
+        return np.array([self.mass * GRAVITY, 0.0, 0.0]) + pd * np.array(
+            [self.mass, self.mass, self.inertia]
+        )
+
+    def _replan(
+        self,
+        t: float,
+        foot: int,
+        forces: ForceWindow,
+        stance: Array,
+        feet: Array,
+        body: Array,
+        body_rate: Array,
+        plan: BodyPlan,
+    ) -> BodyPlan | None:
+        """Estimate the slipping foot's pad from its last forces, believe it, and ask for a
+        plan (an estimate off the physical range, mu <= 0 or not finite, is not believed)."""
+        window = forces(foot)
+        if window is None:
+            return None
+        prior = Estimate(float(self.believed.friction[foot]), float(self.believed.adhesion[foot]))
+        got = estimate_pad(*window, prior=prior)
+        if not (math.isfinite(got.mu) and math.isfinite(got.adhesion) and got.mu > 0):
+            return None
+        self.believed.friction[foot], self.believed.adhesion[foot] = got.mu, got.adhesion
+        self.counts.estimates += 1
+        request = ReplanRequest(
+            t,
+            foot,
+            self.believed.friction.copy(),
+            self.believed.adhesion.copy(),
+            stance.copy(),
+            feet.copy(),
+            body.copy(),
+            body_rate.copy(),
+            plan,
+        )
+        new = self.replanner(request)
+        self.counts.replans += new is not None
+        return new

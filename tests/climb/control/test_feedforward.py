@@ -1,0 +1,79 @@
+"""The climb's force controller on a still robot: what each mode does when a foot slips."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from ftfof.climb.control.feedforward import CONTROL_RATE_HZ, SLIP_HOLD, FeedForward, Pads
+from ftfof.climb.legs import sagittal_chain
+from tests.climb.control.stances import ADHESION, FRICTION, MASS, STROKE
+
+SLIDING = np.array([0.0, 0.05, 0.0, 0.0])  # FR slides up its patch at 50 mm/s
+
+
+def _controller(m3f, mode, replanner=lambda request: None):
+    robot = m3f.robot
+    chain = sagittal_chain(robot.leg, robot.climber.torque_limits, robot.platform.foot.ankle_height)
+    pads = Pads(np.full(4, FRICTION), np.full(4, ADHESION))
+    return FeedForward(mode, chain, MASS, 1e-3, float(chain.hip[1]), pads, replanner), chain
+
+
+def _plan(t):
+    return np.zeros_like(t), np.zeros_like(t)
+
+
+def _window(leg):
+    fn = np.linspace(-2.0, 4.0, 15)  # the foot's press varies while it slides
+    return fn, 0.3 * (fn + 5.0)  # a pad of mu 0.3, F_adh 5 N
+
+
+def _run(controller, chain, velocity, steps):
+    theta = chain.leg.inverse(np.stack([STROKE, np.zeros(4)], axis=1))
+    spacing = 0.2
+    feet = STROKE + np.array([spacing, spacing, -spacing, -spacing]) / 2 - chain.hip[0]
+    out = None
+    for k in range(steps):
+        out = controller.step(
+            k / CONTROL_RATE_HZ,
+            np.zeros(3),
+            np.zeros(3),
+            _plan,
+            theta,
+            feet,
+            np.ones(4, dtype=bool),
+            velocity,
+            _window,
+        )
+    return out
+
+
+def test_hanging_still_the_qp_gives_every_servo_a_finite_torque(m3f):
+    controller, chain = _controller(m3f, "none")
+    torques, plan = _run(controller, chain, np.zeros(4), 3)
+    assert np.isfinite(torques).all() and np.abs(torques).max() > 0 and plan is None
+    assert controller.counts.solves == 3 and controller.counts.slips == 0
+
+
+def test_replan_estimates_the_slipping_pad_and_tracks_the_plan_it_is_given(m3f):
+    seen = []
+
+    def replanner(request):
+        seen.append(request)
+        return _plan
+
+    controller, chain = _controller(m3f, "replan", replanner)
+    steps = round(SLIP_HOLD * CONTROL_RATE_HZ) + 2
+    _, plan = _run(controller, chain, SLIDING, steps)
+    assert plan is None  # given once, on the slip's first step, and then kept by the loop
+    assert len(seen) == 1 and seen[0].foot == 1
+    assert seen[0].friction[1] == pytest.approx(0.3, rel=0.05)
+    assert seen[0].friction[0] == FRICTION  # the others stay nominal
+    assert controller.counts.estimates == 1 and controller.counts.replans == 1
+
+
+def test_weights_alone_neither_estimates_nor_replans(m3f):
+    controller, chain = _controller(m3f, "weights")
+    steps = round(SLIP_HOLD * CONTROL_RATE_HZ) + 2
+    _run(controller, chain, SLIDING, steps)
+    assert controller.counts.slips == 1 and controller.counts.estimates == 0

@@ -1,0 +1,59 @@
+"""climb.controller in the climb: off, it leaves the climb as it was; on, the QP drives the servos'
+feed-forward and the robot still climbs; the slip figures are those of its channels."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from ftfof.climb.metrics import slip_totals
+from ftfof.climb.simulate import climb
+from tests.climb.helpers import spec_of
+
+pytestmark = pytest.mark.integration
+
+
+def _one_step(params, controller):
+    spec = spec_of(params)
+    update = {"steps": 1, "controller": controller}
+    return climb(replace(spec, climb=spec.climb.model_copy(update=update)))
+
+
+@pytest.fixture(scope="module")
+def off(params):
+    return _one_step(params, None)
+
+
+@pytest.fixture(scope="module")
+def qp(params):
+    return _one_step(params, "none")
+
+
+def test_without_a_controller_the_climb_is_the_one_before_controllers(off):
+    """Pinned from main before the controllers (b1dd8b9): the polynomial's first step, 2001
+    records. Any feed-forward leaking into the servos moves these far past the tolerance."""
+    c = off.channels
+    assert off.control == {} and c["t"].size == 2001
+    body = [0.02899658626826076, -0.00019850794246175, 0.00034008844136267]
+    assert c["body"][-1] == pytest.approx(body, rel=1e-9)
+    assert np.abs(c["torque"]).sum() == pytest.approx(3007.8910902060306, rel=1e-9)
+    assert np.abs(c["force"]).sum() == pytest.approx(30222.599269736365, rel=1e-9)
+
+
+def test_the_qp_drives_the_servos_and_the_robot_climbs_its_step(qp):
+    assert qp.ok and not qp.fell
+    assert qp.control["solves"] >= 2000 and qp.control["failed"] == 0
+    assert qp.channels["body"][-1, 0] == pytest.approx(qp.gait.advance, rel=0.1)
+
+
+def test_the_slip_figures_are_the_stance_pads_small_sway_when_nothing_slips(off, qp):
+    for run in (off, qp):
+        totals = slip_totals(run.channels)
+        assert (totals.distance >= 0).all() and (totals.peak >= 0).all()
+        # nothing slips in one step: the pads' elastic sway on their patches, well under 1 mm
+        assert totals.summary()["slip_distance"] < 1e-3
+    gait, t = off.gait, off.channels["t"]
+    held = (t >= gait.lift_off(0)) & (t < gait.lift_off(0) + gait.swing + gait.hold)
+    assert np.all(off.channels["slip_velocity"][held, gait.leg_of(0)] == 0)  # off the stance

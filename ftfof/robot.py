@@ -1,10 +1,14 @@
-"""The selected robot, resolved once per run: preset, limits, rules and constraint policy."""
+"""The selected robot, resolved once per run: preset, limits, rules and constraint policy; and
+control points typed for it (a command line's ``--points``), checked against its rules."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
 from ftfof.config import Feasibility, Protocol, Robot, Surface
+from ftfof.errors import ParamsError
 from ftfof.kinematics.limits import RobotLimits, resolve_limits
 from ftfof.rules import FootRules, foot_rules
 from ftfof.trajectory.policy import ConstraintPolicy
@@ -37,3 +41,45 @@ def robot_context(
         ConstraintPolicy(robot, limits, feasibility, name),
         foot_rules(robot, surface, protocol),
     )
+
+
+def parse_points(text: str, unit: str) -> np.ndarray:
+    """The 12 control values P3x..P12x, P3z..P12z as written on a command line, in metres."""
+    scale = {"m": 1.0, "mm": 1e-3}.get(unit)
+    if scale is None:
+        raise ParamsError("--unit", f"must be m or mm (got {unit!r})")
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        raise ParamsError("--points", "must be 12 comma-separated numbers") from None
+    if len(values) != 12:
+        raise ParamsError("--points", f"needs 12 values P3x..P12z (got {len(values)})")
+    return np.array(values) * scale
+
+
+def check_points(X: np.ndarray, unit: str, ctx: RobotContext, allow_infeasible: bool) -> list[str]:
+    """The rules of ``ctx``'s policy that the control points ``X`` (m) break; refused unless
+    ``allow_infeasible``. Values a thousand times off the robot's reach are refused either way,
+    with the unit they were most likely meant in."""
+    reach = float(np.max(ctx.limits.position))
+    size = float(np.max(np.abs(X)))
+    if unit == "m" and size > 10 * reach and size * 1e-3 <= 2 * reach:
+        raise ParamsError(
+            "--points",
+            f"reach {size:g} m, {size / reach:.0f} times the robot's {reach:g} m: they look like "
+            "millimetres (add --unit mm)",
+        )
+    if unit == "mm" and 0 < size < reach / 100 and size * 1e3 <= 2 * reach:
+        raise ParamsError(
+            "--points",
+            f"reach {1e3 * size:g} mm, 1/{reach / size:.0f} of the robot's {1e3 * reach:g} mm: "
+            "they look like metres (drop --unit mm)",
+        )
+    failed = ctx.policy.check(X).failed(0)
+    if failed and not allow_infeasible:
+        raise ParamsError(
+            "--points",
+            f"{ctx.name} cannot run them: {'; '.join(failed[:3])} "
+            "(--allow-infeasible simulates them anyway, marked as such)",
+        )
+    return failed

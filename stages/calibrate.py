@@ -16,7 +16,7 @@ import typer
 
 from ftfof.errors import ParamsError
 from ftfof.files import write_json
-from ftfof.pipeline.calibration import FITTABLE, THIRD_BOUNDS
+from ftfof.identify.calibration import FITTABLE, THIRD_BOUNDS
 from ftfof.pipeline.catalog import path
 from stages.common import ParamsOption, console, stage
 
@@ -45,7 +45,8 @@ def command(
     write_params: Annotated[bool, typer.Option(help="Write the fit into params.yaml.")] = False,
 ) -> None:
     """Fit the surface's strength and fracture energy (and one more) to FTFOF Table I."""
-    from ftfof.pipeline.calibration import fit_surface, parse_bounds, parse_fixes
+    from ftfof.identify.calibration import parse_bounds, parse_fixes
+    from ftfof.pipeline.calibration import fit_surface
     from ftfof.pipeline.params_file import edit_params, load_params
 
     fixed, bounds = parse_fixes(fix or ()), parse_bounds(bound or ())

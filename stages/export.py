@@ -52,9 +52,10 @@ def command(
     foot positions and velocities, joint angles and rates, and where the trajectory came from."""
     from ftfof.errors import ParamsError
     from ftfof.files import atomic_path
-    from ftfof.pipeline.bench import check_points, context_of, parse_points
+    from ftfof.pipeline.bench import context_of
     from ftfof.pipeline.export import Source, export
     from ftfof.pipeline.params_file import load_params
+    from ftfof.robot import check_points, parse_points
 
     if sum(x is not None for x in (row, baseline, points)) > 1:
         raise ParamsError("export", "give at most one of --row, --baseline, --points")

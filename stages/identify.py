@@ -47,9 +47,10 @@ def command(
     """Estimate mu and F_adh (least squares and the Kalman-like estimator); a bad log stops
     before anything is written, naming file, row and column."""
     from ftfof.errors import ParamsError
-    from ftfof.identify.fit import identify
+    from ftfof.identify import fit
     from ftfof.pipeline import identify as ident
     from ftfof.pipeline.params_file import load_params
+    from ftfof.report.identify import convergence_figure
 
     params = load_params(params_path)
     settings = params.identify
@@ -66,13 +67,13 @@ def command(
             raise ParamsError("identify.log", f"{log} is not under {LOGS} (the stage's input)")
     name = surface or settings.surface or params.surface
     slip = ident.read_log(log) if log is not None else ident.simulate_slip(params, name)
-    ls, track = identify(slip)
+    ls, track = fit.identify(slip)
     true = ident.truth(params, name) if log is None else None
     source = "simulated slip test" if log is None else str(log)
-    out = ident.report(name, source, ls, track, true)
+    out = fit.report(name, source, ls, track, true)
     pull_off = ident.read_calibration(calibration, name) if calibration else None
     block = ident.preset(params, name, source, track.final, pull_off)
-    ident.write_outputs(out, ident.convergence_figure(out, track), block, paths)
+    ident.write_outputs(out, convergence_figure(out, track), block, paths)
     if write_params:
         ident.write_surface(params_path, name, block, params.surfaces[name])
         console.print(f"wrote the identified values of {name} into {params_path}")

@@ -42,16 +42,10 @@ def command(
     from ftfof.data.schema import TRAJECTORIES
     from ftfof.errors import ParamsError
     from ftfof.files import read_table
-    from ftfof.pipeline.bench import (
-        baseline_specs,
-        baseline_trajectories,
-        bench,
-        check_points,
-        context_of,
-        parse_points,
-    )
+    from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, context_of
     from ftfof.pipeline.params_file import load_params
     from ftfof.report.figures import sample_figure
+    from ftfof.robot import check_points, parse_points
     from ftfof.sim.records import CHANNELS
     from ftfof.sim.simulate import simulate
     from ftfof.trajectory.baselines import BASELINE_NAMES

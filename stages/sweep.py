@@ -24,7 +24,8 @@ def command(
 ) -> None:
     """Queue one experiment per combination (`dvc exp run --queue`), start `jobs` workers."""
     from ftfof.pipeline.params_file import load_params
-    from ftfof.pipeline.sweep import check_presets, parse_axes, plan, run
+    from ftfof.pipeline.sweep import run
+    from ftfof.study.sweep import check_presets, parse_axes, plan
 
     params = load_params(params_path)
     axes = parse_axes(axes)

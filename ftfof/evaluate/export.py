@@ -1,6 +1,7 @@
 """A trajectory as a controller reads it: time-sampled foot position, velocity and joint angles,
-checked against the leg's joint and speed limits, and rendered as CSV (a commented metadata
-header), JSON or the YAML shape of ROS ``trajectory_msgs/JointTrajectory``."""
+checked against the robot's rules and the leg's joint and speed limits, with the metadata a lab
+notebook needs, and rendered as CSV (a commented metadata header), JSON or the YAML shape of ROS
+``trajectory_msgs/JointTrajectory``."""
 
 from __future__ import annotations
 
@@ -9,8 +10,12 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from ftfof.kinematics.legs import Leg, within_limits
+from ftfof.errors import ParamsError
+from ftfof.kinematics.legs import Leg, build_leg, within_limits
+from ftfof.robot import RobotContext
+from ftfof.trajectory.bezier import DECISION_NAMES
 from ftfof.trajectory.piecewise import Sampled
+from ftfof.version import __version__
 
 Array = NDArray[np.float64]
 
@@ -27,6 +32,13 @@ COLUMNS = (
     "dq2 [rad/s]",
     "dq3 [rad/s]",
 )
+
+
+FRAME = (
+    "trajectory frame: origin at the foot's start point P0, x along the wall in the step's "
+    "direction, z away from the wall"
+)
+UNITS = {"t": "s", "x, z": "m", "vx, vz": "m/s", "q": "rad", "dq": "rad/s"}
 
 
 class ExportRateError(ValueError):
@@ -107,6 +119,79 @@ def limit_breaches(out: ControllerTrajectory, leg: Leg) -> list[str]:
                 f"{leg.speed_limits[j]:g} rad/s limit"
             )
     return breaches
+
+
+def runnable(
+    ctx: RobotContext, name: str, trajectory: Sampled, X: Array | None, rate_hz: float
+) -> ControllerTrajectory:
+    """``trajectory`` (decision row ``X``, None for an analytic baseline) sampled at ``rate_hz``
+    through ``ctx``'s leg; refused where the robot cannot run it (its constraint policy at that
+    rate, a joint's range or speed), one ParamsError naming the rule."""
+    leg = build_leg(ctx.robot.leg)
+    if X is not None:
+        failed = ctx.policy.at_rate(rate_hz).check(X).failed(0)
+        if failed:
+            raise ParamsError(name, f"{ctx.name} cannot run it: {'; '.join(failed[:3])}")
+    try:
+        out = controller_trajectory(trajectory, ctx.policy.timing.T3, leg, rate_hz)
+    except ExportRateError as err:
+        raise ParamsError("--rate", str(err)) from None
+    except ValueError as err:
+        raise ParamsError(name, str(err)) from None
+    breaches = limit_breaches(out, leg)
+    if breaches:
+        raise ParamsError(name, f"{ctx.name}'s leg cannot run it: {'; '.join(breaches[:3])}")
+    return out
+
+
+def export_metadata(
+    ctx: RobotContext,
+    surface: str,
+    name: str,
+    rate_hz: float,
+    params_hash: str,
+    source: dict[str, object],
+    simulated: dict[str, float] | str,
+    X: Array | None,
+) -> dict[str, object]:
+    """What a lab notebook needs beside an exported trajectory: the code, robot, surface, frame
+    and units, where it came from (``source``), the simulator's figures of it, and its control
+    points in mm where it is a Bezier row."""
+    metadata: dict[str, object] = {
+        "ftfof": __version__,
+        "robot": ctx.name,
+        "leg": ctx.robot.leg.type,
+        "surface": surface,
+        "trajectory": name,
+        "frame": FRAME,
+        "frame_id": f"{ctx.name}_foot_start",
+        "units": UNITS,
+        "rate_hz": rate_hz,
+        "duration_s": ctx.policy.timing.T3,
+        "params_hash": params_hash,
+        **source,
+        "simulated": simulated,
+    }
+    if X is not None:
+        metadata["control_points_mm"] = {
+            n: round(1e3 * float(v), 6) for n, v in zip(DECISION_NAMES, X, strict=True)
+        }
+    return metadata
+
+
+def simulated_figures(summary: dict, name: str, row: int | None) -> dict[str, float] | str:
+    """The simulator's Table I figures for trajectory ``name`` (front row ``row``) from
+    evaluate's ``summary``, where evaluate simulated it."""
+    table = summary.get("table", {})
+    key = "optimum" if row is not None and row == summary.get("optimum_front_row") else name
+    if key in table:
+        return {k: v for k, v in table[key].items() if not k.endswith("_change")}
+    members = summary.get("front_simulated", {}).get("members", [])
+    for member in members:
+        if row is not None and member.get("row") == row:
+            figures = ("peak_pull", "jitter", "min_bend_radius", "max_clearance")
+            return {k: member[k] for k in figures if k in member}
+    return "not simulated by evaluate"
 
 
 JOINTS = ("q1", "q2", "q3")

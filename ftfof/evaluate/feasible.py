@@ -9,6 +9,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from ftfof.robot import RobotContext
+from ftfof.trajectory.baselines import BezierTrajectory
 from ftfof.trajectory.piecewise import Sampled
 
 
@@ -52,3 +53,21 @@ def reference_for(
         requested,
         "no common trajectory meets the robot's rules: changes are against one it cannot run",
     )
+
+
+def climbable(
+    ctx: RobotContext,
+    baselines: Mapping[str, Sampled],
+    bezier: Mapping[str, np.ndarray],
+    breaks: Mapping[str, list[str]],
+) -> tuple[dict[str, tuple[Sampled, np.ndarray | None]], dict[str, str]]:
+    """Table I's trajectories the robot can run (per name the trajectory and its decision row,
+    None for a baseline), and the others with the first rules (:func:`admitted`) each breaks."""
+    trajectories: dict[str, tuple[Sampled, np.ndarray | None]] = {
+        name: (trajectory, None) for name, trajectory in baselines.items()
+    }
+    for name, X in bezier.items():
+        trajectories[name] = (BezierTrajectory(ctx.policy, X), X)
+    runnable = {n: t for n, t in trajectories.items() if not breaks.get(n)}
+    skipped = {n: "; ".join(breaks[n][:2]) for n in trajectories if n not in runnable}
+    return runnable, skipped

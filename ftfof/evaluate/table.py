@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -68,3 +69,23 @@ PAPER_TABLE_I: dict[str, dict[str, float]] = {
     "random_bezier": {"peak_detachment": 6.11, "peak_pre_pressure": 5.85, "peak_body_acc": 141.30},
     "optimal": {"peak_detachment": 5.40, "peak_pre_pressure": 5.85, "peak_body_acc": 58.41},
 }
+
+
+def climb_record(climbs: Mapping[str, Mapping[str, Any]], skipped: Mapping[str, str]) -> dict:
+    """The climbing robot's runs as the report keeps them: per name its climb's figures to four
+    decimals, as Table I's (flags and missing values as they are), its fall and error; and
+    ``not_climbed``, the trajectories it could not run and why."""
+    out: dict[str, Any] = {
+        n: {**_rounded(d["summary"]), "fall": d["fall"], "error": d["error"]}
+        for n, d in climbs.items()
+    }
+    if skipped:
+        out["not_climbed"] = dict(skipped)
+    return out
+
+
+def _rounded(figures: Mapping[str, Any]) -> dict[str, Any]:
+    return {
+        k: round(v, 4) if isinstance(v, float) and not isinstance(v, bool) else v
+        for k, v in figures.items()
+    }

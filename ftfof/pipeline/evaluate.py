@@ -14,10 +14,11 @@ import numpy as np
 import pyarrow.parquet as pq
 
 from ftfof.config import Params
-from ftfof.evaluate.feasible import admitted
+from ftfof.evaluate.feasible import admitted, climbable
 from ftfof.evaluate.run import Evaluation, Inputs, decision, evaluate, front_sample
 from ftfof.evaluate.runs import PAPER_OPTIMUM, table_name
 from ftfof.evaluate.specs import evaluation_specs
+from ftfof.evaluate.table import climb_record
 from ftfof.files import atomic_path
 from ftfof.pipeline import tracking
 from ftfof.pipeline.artefacts import (
@@ -37,7 +38,6 @@ from ftfof.report.eps_study import eps_figure
 from ftfof.report.html import figure_data_uri
 from ftfof.robot import RobotContext
 from ftfof.study.eps import simulate as eps_study
-from ftfof.trajectory.baselines import BezierTrajectory
 from ftfof.trajectory.piecewise import Sampled
 
 
@@ -134,36 +134,17 @@ def _climbs(
     breaks: Mapping[str, list[str]],
     workers: int | None,
 ) -> dict[str, Any]:
-    """Table I's trajectories on the climbing robot, each one the robot can run: per name its
-    climb's summary and fall (``not_climbed``: the others, and why)."""
+    """Table I's trajectories on the climbing robot, each one the robot can run
+    (:func:`ftfof.evaluate.feasible.climbable`): per name its climb's summary and fall
+    (:func:`ftfof.evaluate.table.climb_record`)."""
     if not params.evaluate.climb or ctx.robot.climber is None:
         return {}
-    trajectories: dict[str, tuple[Sampled, np.ndarray | None]] = {
-        name: (trajectory, None) for name, trajectory in baselines.items()
-    }
-    for name, X in bezier.items():
-        trajectories[name] = (BezierTrajectory(ctx.policy, X), X)
-    runnable = {n: t for n, t in trajectories.items() if not breaks.get(n)}
+    runnable, skipped = climbable(ctx, baselines, bezier, breaks)
     specs = {n: spec_for(params, ctx, n, t, X) for n, (t, X) in runnable.items()}
     console.print(f"evaluate: the climbing robot climbs {', '.join(specs)}")
     cfg = params.acquire
     docs = climb_all(params, specs, out / CLIMBS, cfg.workers if workers is None else workers)
-    out_of: dict[str, Any] = {
-        n: {**_rounded(d["summary"]), "fall": d["fall"], "error": d["error"]}
-        for n, d in docs.items()
-    }
-    skipped = {n: "; ".join(breaks[n][:2]) for n in trajectories if n not in runnable}
-    if skipped:
-        out_of["not_climbed"] = skipped
-    return out_of
-
-
-def _rounded(figures: Mapping[str, Any]) -> dict[str, Any]:
-    """Figures to four decimals, as Table I's (flags and missing values as they are)."""
-    return {
-        k: round(v, 4) if isinstance(v, float) and not isinstance(v, bool) else v
-        for k, v in figures.items()
-    }
+    return climb_record(docs, skipped)
 
 
 def _climb_figures(out: Path, climbed: Mapping[str, Any]) -> dict[str, str]:

@@ -14,27 +14,13 @@ import numpy as np
 from ftfof.config import Params
 from ftfof.digests import json_sha256
 from ftfof.errors import DataError, ParamsError
-from ftfof.evaluate.export import (
-    ExportRateError,
-    controller_trajectory,
-    limit_breaches,
-    render,
-)
+from ftfof.evaluate.export import export_metadata, render, runnable, simulated_figures
 from ftfof.evaluate.run import decision
-from ftfof.kinematics.legs import build_leg
 from ftfof.pipeline.artefacts import POLISH_READS, read_optimum
 from ftfof.pipeline.bench import baseline_trajectories, context_of
 from ftfof.robot import RobotContext
 from ftfof.trajectory.baselines import BezierTrajectory
-from ftfof.trajectory.bezier import DECISION_NAMES
 from ftfof.trajectory.piecewise import Sampled
-from ftfof.version import __version__
-
-FRAME = (
-    "trajectory frame: origin at the foot's start point P0, x along the wall in the step's "
-    "direction, z away from the wall"
-)
-UNITS = {"t": "s", "x, z": "m", "vx, vz": "m/s", "q": "rad", "dq": "rad/s"}
 
 
 @dataclass(frozen=True)
@@ -57,43 +43,13 @@ def export(
     params: Params, source: Source, rate_hz: float, fmt: str, optimize: Path, metrics: Path
 ) -> Exported:
     """``source`` sampled at ``rate_hz`` through the leg's IK, rendered as ``fmt``; a trajectory
-    the robot cannot run (its constraint policy at that rate, a joint's range or speed) is
-    refused, naming the rule."""
+    the robot cannot run is refused, naming the rule (:func:`ftfof.evaluate.export.runnable`)."""
     ctx = context_of(params)
-    leg = build_leg(ctx.robot.leg)
     name, trajectory, X, extra = trajectory_of(params, ctx, source, optimize)
-    if X is not None:
-        failed = ctx.policy.at_rate(rate_hz).check(X).failed(0)
-        if failed:
-            raise ParamsError(name, f"{ctx.name} cannot run it: {'; '.join(failed[:3])}")
-    try:
-        out = controller_trajectory(trajectory, ctx.policy.timing.T3, leg, rate_hz)
-    except ExportRateError as err:
-        raise ParamsError("--rate", str(err)) from None
-    except ValueError as err:
-        raise ParamsError(name, str(err)) from None
-    breaches = limit_breaches(out, leg)
-    if breaches:
-        raise ParamsError(name, f"{ctx.name}'s leg cannot run it: {'; '.join(breaches[:3])}")
-    metadata = {
-        "ftfof": __version__,
-        "robot": ctx.name,
-        "leg": ctx.robot.leg.type,
-        "surface": params.surface,
-        "trajectory": name,
-        "frame": FRAME,
-        "frame_id": f"{ctx.name}_foot_start",
-        "units": UNITS,
-        "rate_hz": rate_hz,
-        "duration_s": ctx.policy.timing.T3,
-        "params_hash": json_sha256(params.model_dump(mode="json"), 16),
-        **extra,
-        "simulated": _simulated(metrics, name, extra.get("front_row")),
-    }
-    if X is not None:
-        metadata["control_points_mm"] = {
-            n: round(1e3 * float(v), 6) for n, v in zip(DECISION_NAMES, X, strict=True)
-        }
+    out = runnable(ctx, name, trajectory, X, rate_hz)
+    params_hash = json_sha256(params.model_dump(mode="json"), 16)
+    simulated = _simulated(metrics, name, extra.get("front_row"))
+    metadata = export_metadata(ctx, params.surface, name, rate_hz, params_hash, extra, simulated, X)
     return Exported(name, render(out, metadata, fmt), int(out.table.shape[0]))
 
 
@@ -139,13 +95,4 @@ def _simulated(metrics: Path, name: str, row: int | None) -> dict[str, float] | 
         summary = json.loads(metrics.read_text())
     except ValueError as err:
         raise DataError(str(metrics), f"unreadable metrics ({err})") from None
-    table = summary.get("table", {})
-    key = "optimum" if row is not None and row == summary.get("optimum_front_row") else name
-    if key in table:
-        return {k: v for k, v in table[key].items() if not k.endswith("_change")}
-    members = summary.get("front_simulated", {}).get("members", [])
-    for member in members:
-        if row is not None and member.get("row") == row:
-            figures = ("peak_pull", "jitter", "min_bend_radius", "max_clearance")
-            return {k: member[k] for k in figures if k in member}
-    return "not simulated by evaluate"
+    return simulated_figures(summary, name, row)

@@ -8,10 +8,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import pandas as pd
 import yaml
 from matplotlib.figure import Figure
@@ -20,7 +16,8 @@ from ftfof.config import Params, Surface
 from ftfof.data.sliplog import parse_slip
 from ftfof.errors import DataError, ParamsError
 from ftfof.files import atomic_path, save_figure
-from ftfof.identify.estimate import Estimate, Track
+from ftfof.identify.estimate import Estimate
+from ftfof.identify.fit import preset_block
 from ftfof.identify.log import SlipLog
 from ftfof.pipeline.params_file import edit_params
 from ftfof.pipeline.summaries import write_metrics
@@ -111,64 +108,15 @@ def read_calibration(path: Path, surface: str) -> float:
 def preset(
     params: Params, name: str, source: str, est: Estimate, pull_off: float | None = None
 ) -> dict[str, Any]:
-    """Surface ``name``'s preset with the identified friction and shear strength tau_max (the
-    adhesion at the robot's preload, :func:`strength_for`). Without a peel calibration the
-    pull-off strength follows from tau_max through the preset's k = tau / sigma; with one
-    (``pull_off``: sigma fitted on normal peel data) k follows from both."""
+    """Surface ``name``'s preset with the identified friction and the shear strength tau_max
+    that gives the identified adhesion at the robot's preload (:func:`strength_for`,
+    :func:`ftfof.identify.fit.preset_block`)."""
     surface = surface_of(params, name)
     r = params.selected_robot
     law = BondLaw.from_surface(surface, params.acquire.solver.contact_smoothing)
     area = r.foot.pad_length * r.platform.film.width
     tau = strength_for(law, r.pre_pressure, area, est.mu, est.adhesion)
-    block = surface.model_dump()
-    block["friction"] = round(est.mu, 4)
-    block["note"] = f"{surface.note} Friction and shear identified by ftfof identify ({source})."
-    if pull_off is None:
-        block["strength"] = round(tau / surface.shear_capacity_ratio, 1)
-    else:
-        block["strength"] = round(pull_off, 1)
-        block["shear_capacity_ratio"] = round(tau / pull_off, 4)
-        block["shear_source"] = "ftfof identify: slip-test shear over ftfof calibrate's pull-off"
-    return block
-
-
-def report(
-    name: str, source: str, ls: Estimate, track: Track, true: Estimate | None
-) -> dict[str, Any]:
-    def block(key: str) -> dict[str, float | None]:
-        return {
-            "estimate": getattr(track.final, key),
-            "truth": getattr(true, key) if true else None,
-            "least_squares": getattr(ls, key),
-        }
-
-    return {
-        "enabled": True,
-        "surface": name,
-        "source": source,
-        "slip_samples": int(track.samples[-1]),
-        "mu": block("mu"),
-        "adhesion": block("adhesion"),
-        "adhesion_unit": "N per pad",
-    }
-
-
-def convergence_figure(out: dict[str, Any], track: Track) -> Figure:
-    """The Kalman estimate over the log, beside least squares and the truth where known."""
-    fig, axes = plt.subplots(2, 1, sharex=True, figsize=(6, 5))
-    for ax, name, values in (
-        (axes[0], "mu", track.mu),
-        (axes[1], "adhesion", track.adhesion),
-    ):
-        ax.plot(track.samples, values, label="Kalman estimate")
-        ax.axhline(out[name]["least_squares"], ls=":", color="k", label="least squares")
-        if out[name]["truth"] is not None:
-            ax.axhline(out[name]["truth"], ls="--", color="g", label="truth")
-        ax.set_ylabel("μ" if name == "mu" else "F_adh per pad, N")
-    axes[0].legend()
-    axes[1].set_xlabel("slip samples seen")
-    fig.tight_layout()
-    return fig
+    return preset_block(surface, source, est.mu, tau, pull_off)
 
 
 def write_outputs(
@@ -199,8 +147,6 @@ def write_surface(params_path: Path, name: str, block: dict[str, Any], current: 
         surface = document["surfaces"][name]
         for key, value in changed.items():
             surface[key] = value
-            surface.yaml_add_eol_comment(
-                "identified by ftfof identify (reports/identify.json)", key
-            )
+            surface.yaml_add_eol_comment(COMMENT, key)
 
     edit_params(params_path, edit)

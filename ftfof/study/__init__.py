@@ -1,1 +1,2 @@
-"""Studies: one setting of a trajectory swept over a range on the platform, and what it does."""
+"""Studies: one setting of a trajectory swept over a range on the platform (eps), and the
+pipeline's presets and seeds swept as named experiments (sweep)."""

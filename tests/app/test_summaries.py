@@ -10,8 +10,9 @@ import pytest
 import yaml
 
 from ftfof.pipeline import catalog, summaries
-from ftfof.pipeline.sweep import KEY_METRICS, SUMMARY
-from ftfof.surrogate.store import TARGETS
+from ftfof.pipeline.sweep import SUMMARY
+from ftfof.report import stage_summaries
+from ftfof.study.sweep import KEY_METRICS
 
 ROOT = Path(__file__).resolve().parents[2]
 STAGES = yaml.safe_load((ROOT / "dvc.yaml").read_text())["stages"]
@@ -33,7 +34,7 @@ def _report(stage: str) -> dict:
 
 
 def test_every_stage_has_a_summariser():
-    assert set(summaries.SUMMARIES) == set(STAGES) == set(FULL)
+    assert set(stage_summaries.SUMMARIES) == set(STAGES) == set(FULL)
 
 
 @pytest.mark.parametrize("stage", sorted(FULL))
@@ -50,23 +51,15 @@ def test_dvc_lists_the_summary_as_the_metrics_and_the_full_report_as_an_output(s
 
 @pytest.mark.parametrize("stage", sorted(FULL))
 def test_the_committed_reports_summaries_are_short_and_committed(stage):
-    summary = summaries.SUMMARIES[stage](_report(stage))
-    assert 3 <= summaries.numbers(summary) <= summaries.LIMIT
+    summary = stage_summaries.SUMMARIES[stage](_report(stage))
+    assert 3 <= stage_summaries.numbers(summary) <= stage_summaries.LIMIT
     committed = ROOT / catalog.path(f"{stage}_summary")
     assert json.loads(committed.read_text()) == json.loads(json.dumps(summary))
 
 
-def test_the_widest_train_summary_stays_short():
-    """Both losses and a peak GP for every target: still within the limit."""
-    entry = {"best_epoch": 3, "seconds": 1.0, "targets": {t: {"mse": 1.0} for t in TARGETS}}
-    peaks = {t: {"gp": {"spearman": 0.5}, "gru": {"spearman": 0.4}} for t in TARGETS}
-    report = {"wall_seconds": 2.0, "dilate": entry, "mse": entry, "peaks": peaks}
-    assert summaries.numbers(summaries.train(report)) <= summaries.LIMIT
-
-
 def test_evaluate_summary_holds_what_sweep_prints():
     assert catalog.path("evaluate_summary").as_posix() == SUMMARY
-    summary = summaries.evaluate(_report("evaluate"))
+    summary = stage_summaries.evaluate(_report("evaluate"))
     assert summary["reference"]
     for metric in KEY_METRICS:
         assert {metric, f"{metric}_change"} <= set(summary["optimum"])

@@ -92,3 +92,46 @@ def test_each_format_renders_the_table_and_its_metadata(m3f):
     assert json.loads(render(out, meta, "json"))["metadata"] == meta
     with pytest.raises(ValueError, match="unknown format"):
         render(out, meta, "xml")
+
+
+def test_a_run_the_robot_cannot_make_is_refused_naming_the_rule(m3f):
+    from ftfof.errors import ParamsError
+    from ftfof.evaluate.export import runnable
+
+    X = sample_feasible(m3f.policy, 1, seed=0).X[0]
+    out = runnable(m3f, "row0", BezierTrajectory(m3f.policy, X), X, 100.0)
+    assert out.table.shape[1] == len(COLUMNS)
+    with pytest.raises(ParamsError, match="--rate"):
+        runnable(m3f, "row0", BezierTrajectory(m3f.policy, X), None, 0.5)
+    fast = sample_feasible(m3f.policy, 1, seed=4).X[0]  # its dq2 just past the limit
+    with pytest.raises(ParamsError, match="leg cannot run it: dq2"):
+        runnable(m3f, "row4", BezierTrajectory(m3f.policy, fast), fast, 100.0)
+    far = X.copy()
+    far[6:9] = 5.0
+    with pytest.raises(ParamsError, match=f"{m3f.name} cannot run it"):
+        runnable(m3f, "far", BezierTrajectory(m3f.policy, far), far, 100.0)
+
+
+def test_the_metadata_names_the_robot_frame_source_and_control_points(m3f):
+    from ftfof.evaluate.export import export_metadata
+
+    X = np.arange(12) * 1e-3
+    meta = export_metadata(m3f, "glass", "row4", 100.0, "abc", {"front_row": 4}, "none", X)
+    assert list(meta)[:3] == ["ftfof", "robot", "leg"]
+    assert (meta["robot"], meta["front_row"], meta["simulated"]) == (m3f.name, 4, "none")
+    assert meta["control_points_mm"]["P3x"] == 0.0
+    assert "control_points_mm" not in export_metadata(m3f, "g", "poly", 1.0, "a", {}, "n", None)
+
+
+def test_the_simulated_figures_are_found_by_row_or_by_name():
+    from ftfof.evaluate.export import simulated_figures
+
+    summary = {
+        "optimum_front_row": 7,
+        "table": {"optimum": {"peak_pull": 6.0, "peak_pull_change": -3.0}, "polynomial": {}},
+        "front_simulated": {"members": [{"row": 9, "peak_pull": 5.0, "other": 1.0}]},
+    }
+    assert simulated_figures(summary, "optimum", 7) == {"peak_pull": 6.0}
+    assert simulated_figures(summary, "row9", 9) == {"peak_pull": 5.0}
+    assert simulated_figures(summary, "polynomial", None) == {}
+    assert simulated_figures(summary, "row3", 3) == "not simulated by evaluate"

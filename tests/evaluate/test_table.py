@@ -20,3 +20,15 @@ def test_missing_or_zero_reference_is_named():
     broken = {"polynomial": {**PAPER_TABLE_I["polynomial"], "peak_body_acc": 0.0}}
     with pytest.raises(ValueError, match="max body jitter"):
         table_one(broken, "polynomial")
+
+
+def test_the_climb_record_rounds_figures_and_names_what_was_not_climbed():
+    from ftfof.evaluate.table import climb_record
+
+    climbs = {"optimum": {"summary": {"jitter": 1.234567, "fell": False, "steps": 8}, "fall": None,
+                          "error": None}}  # fmt: skip
+    record = climb_record(climbs, {"polynomial": "rule a; rule b"})
+    assert record["optimum"] == {"jitter": 1.2346, "fell": False, "steps": 8, "fall": None,
+                                 "error": None}  # fmt: skip
+    assert record["not_climbed"] == {"polynomial": "rule a; rule b"}
+    assert "not_climbed" not in climb_record(climbs, {})

@@ -3,7 +3,7 @@
 import pytest
 
 from ftfof.errors import ParamsError
-from ftfof.pipeline.calibration import fit_bounds, parse_bounds, parse_fixes
+from ftfof.identify.calibration import fit_bounds, parse_bounds, parse_fixes
 
 
 def test_fixes_and_bounds_parse_to_values_in_si():

@@ -1,9 +1,9 @@
-"""Sweeps: axes parsed strictly, the product planned with every setting named, queue parsing."""
+"""Sweeps: axes parsed strictly, the product planned with every setting named, the key columns."""
 
 import pytest
 
 from ftfof.errors import ParamsError
-from ftfof.pipeline.sweep import check_presets, failed, key_columns, parse_axes, plan, unfinished
+from ftfof.study.sweep import check_presets, key_columns, parse_axes, plan
 
 
 def test_the_product_names_every_setting_in_every_experiment():
@@ -14,10 +14,9 @@ def test_the_product_names_every_setting_in_every_experiment():
         "s1-mst_q-acrylic",
         "s1-mst_q-glass",
     ]
-    assert experiments[3].queue_args() == [
-        "exp", "run", "--queue", "-n", "s1-mst_q-glass", "-S", "robot=mst_q", "-S", "surface=glass",
-        "-S", "train.alias=exp-s1-mst_q-glass",
-    ]  # fmt: skip
+    assert experiments[3].params == {
+        "robot": "mst_q", "surface": "glass", "train.alias": "exp-s1-mst_q-glass"
+    }  # fmt: skip
 
 
 def test_an_experiment_registers_under_its_own_valid_alias():
@@ -33,7 +32,7 @@ def test_an_experiment_registers_under_its_own_valid_alias():
 def test_a_seed_sweep_sets_the_search_seed_only():
     experiments = plan(parse_axes(["seeds=1,2,3"]))
     assert [e.name for e in experiments] == ["seed1", "seed2", "seed3"]
-    assert experiments[1].queue_args()[-4:-2] == ["-S", "base.search_seed=2"]
+    assert experiments[1].settings == {"base.search_seed": "2"}
     check_presets(parse_axes(["seeds=4"]), {"robot": ["mst_q"], "surface": ["glass"]})
 
 
@@ -69,19 +68,7 @@ def test_an_unknown_preset_is_named_with_the_known_ones():
         check_presets(axes, {"surface": ["acrylic", "glass"], "robot": []})
 
 
-STATUS = """Task     Name          Created    Status
-0a1b2c3  mst_q-glass   10:02 AM   Running
-4d5e6f7  mst_m3f-glass 10:02 AM   Queued
-8a9b0c1  other         09:00 AM   Failed
-2d3e4f5  mst_q-acryl   10:02 AM   Failed
-Worker status: 1 active, 0 idle
-"""
-
-
-def test_queue_status_is_read_for_the_sweeps_own_experiments_only():
-    names = ["mst_q-glass", "mst_m3f-glass", "mst_q-acryl"]
-    assert unfinished(STATUS, names) == ["mst_q-glass", "mst_m3f-glass"]
-    assert failed(STATUS, names) == ["mst_q-acryl"]
+SUMMARY = "reports/summary/evaluate.json"
 
 
 def test_a_finished_sweep_prints_its_key_columns_only():
@@ -108,7 +95,7 @@ def test_a_finished_sweep_prints_its_key_columns_only():
         },
         experiment("s-mst_m3f-glass", "mst_m3f", 7.1, 1.0),
     ]
-    table = key_columns(shown, ["s-mst_m3f-glass", "s-mst_q-glass"]).splitlines()[2:]
+    table = key_columns(shown, ["s-mst_m3f-glass", "s-mst_q-glass"], SUMMARY).splitlines()[2:]
     assert table[0].startswith("| experiment | robot | surface | seed | reference |")
     assert table[2] == (
         "| s-mst_m3f-glass | mst_m3f | glass | 7 | polynomial | 7.1 (+1.0 %) | ? | ? | ? |"

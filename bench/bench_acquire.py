@@ -40,6 +40,13 @@ def cpu_seconds(fn: Callable[[], Any]) -> tuple[float, Any]:
     return time.process_time() - start, result
 
 
+def relative_change(value: float, base: float) -> float:
+    """|value / base - 1|, infinite where a figure appears from 0 (a run that never detached)."""
+    if base == 0.0:
+        return 0.0 if value == 0.0 else float("inf")
+    return abs(value / base - 1.0)
+
+
 def main(n: int, revision: str) -> None:
     tune_allocator()
     reference = reference_simulate(revision)
@@ -104,7 +111,7 @@ def main(n: int, revision: str) -> None:
         f"{ratio_on:.2f}x"
     )
     for figure in ("peak_pull", "peak_body_acc", "landing_pre_pressure", "min_bend_radius"):
-        change = [abs(a[figure] / b[figure] - 1.0) for a, b in zip(idle, all_on, strict=True)]
+        change = [relative_change(a[figure], b[figure]) for a, b in zip(idle, all_on, strict=True)]
         moved = sum(c > 0 for c in change)
         print(f"    {figure}: {moved} of {n} runs moved, largest {100 * max(change):.3f} %")
     print(f"pool, 1 worker:       {rates[1]:.2f} samples/s")

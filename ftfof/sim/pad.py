@@ -224,12 +224,23 @@ def _bond_force(law: BondLaw) -> Any:
     contact constants are baked in; the bond's state comes in through the connector's
     parameters."""
     w, hc, mu, vf = law.contact_smoothing, law.hunt_crossley, law.friction, law.friction_speed
+    none = Real(0.0)
 
     def bond_force(mbs, t, itemNumber, u, v, k, d, offset):
-        bonded = (Real(1.0) - d[0]) * d[1]
+        # bonded (d[0] = 0): s (K_t A u_t, K A u_n) minus the contact; broken (d[0] = 1): the
+        # contact and its friction. Exudyn re-evaluates a subexpression wherever it is used, so
+        # each branch computes only what its case needs: the same numbers as the one formula
+        # (1 - d[0]) s K A u - contact, d[0] mu contact tanh(v / v_f), whose other terms are 0
+        touching = u[1] < none  # the contact pressure is exactly 0 otherwise
         contact = contact_pressure(u[1], v[1], k[2], w, hc, esym.max, esym.min)
-        fn = bonded * k[1] * u[1] - contact
-        ft = bonded * k[0] * u[0] + d[0] * mu * contact * esym.tanh(v[0] / vf)
+        held = d[1] * k[1] * u[1]
+        fn = esym.IfThenElse(
+            d[0],
+            esym.IfThenElse(touching, -contact, none),
+            esym.IfThenElse(touching, held - contact, held),
+        )
+        friction = mu * contact * esym.tanh(v[0] / vf)
+        ft = esym.IfThenElse(d[0], esym.IfThenElse(touching, friction, none), d[1] * k[0] * u[0])
         return [ft, fn, 0]
 
     return bond_force

@@ -123,11 +123,12 @@ def build(spec: ClimbSpec, chain: SagittalChain, gait: Gait, law: BondLaw) -> Cl
     mech = robot.platform
     film, foot = mech.film, mech.foot
     sensor = spec.platform.sensor
-    n = spec.solver.nodes
     pad = robot.foot.pad_length
+    grip = min(foot.grip_length, pad)
+    grid = film_grid(pad, spec.solver.nodes, film.width, grip, spec.solver.edge_element)
+    x_ref, area = grid.x_ref, grid.area
     sc = exu.SystemContainer()
     mbs = sc.AddSystem()
-    x_ref, dx, area = film_grid(pad, n, film.width)
     gravity = (-config.GRAVITY, 0.0)
     ground = mbs.AddNode(NodePointGround())
     g0 = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=ground, coordinate=0))
@@ -143,7 +144,6 @@ def build(spec: ClimbSpec, chain: SagittalChain, gait: Gait, law: BondLaw) -> Cl
 
     pads, feet, springs, soles = [], [], [], []
     initial_pressure = robot.pre_pressure / float(area.sum())
-    grip = min(foot.grip_length, pad)
     mount = climber.foot_mount_stiffness
     keep = []
     for leg in range(LEGS):
@@ -174,7 +174,7 @@ def build(spec: ClimbSpec, chain: SagittalChain, gait: Gait, law: BondLaw) -> Cl
             )
         )
         nodes, elements, stop = add_film(
-            mbs, film, x_ref, dx, foot_body, foot.ankle_height, grip, origin=xf, gravity=gravity
+            mbs, film, grid, foot_body, foot.ankle_height, grip, origin=xf, gravity=gravity
         )
         kx = mount.x if mount else ATTACH_STIFFNESS
         kz = mount.z if mount else ATTACH_STIFFNESS

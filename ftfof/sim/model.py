@@ -114,11 +114,12 @@ def build(spec: SampleSpec, law: BondLaw) -> Platform:
     m = spec.mechanics
     film, foot = m.film, m.foot
     sensor = spec.platform.sensor
-    n = spec.solver.nodes
     pad = spec.pad_length
+    grip = min(foot.grip_length, pad)
+    grid = film_grid(pad, spec.solver.nodes, film.width, grip, spec.solver.edge_element)
+    x_ref, area = grid.x_ref, grid.area
     sc = exu.SystemContainer()
     mbs = sc.AddSystem()
-    x_ref, dx, area = film_grid(pad, n, film.width)
     ground = mbs.AddNode(NodePointGround())
     g0 = _coord(mbs, ground, 0)
 
@@ -155,8 +156,7 @@ def build(spec: SampleSpec, law: BondLaw) -> Platform:
     )
 
     # the film lying on the plate ahead of the foot, its first ``grip`` clamped to the sole
-    grip = min(foot.grip_length, pad)
-    film_nodes, elements, stop = add_film(mbs, film, x_ref, dx, foot_body, ha, grip)
+    film_nodes, elements, stop = add_film(mbs, film, grid, foot_body, ha, grip)
 
     p = Platform(
         sc=sc,

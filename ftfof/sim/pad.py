@@ -12,6 +12,8 @@
 
 from __future__ import annotations
 
+import math
+from dataclasses import dataclass
 from typing import Any
 
 import exudyn as exu
@@ -27,6 +29,7 @@ from exudyn.itemInterface import (
     ObjectANCFCable2D,
     ObjectJointRevolute2D,
 )
+from scipy.optimize import brentq
 
 from ftfof.config import GRAVITY, FilmMechanics
 from ftfof.sim import film as film_shape
@@ -36,16 +39,82 @@ esym = exu.symbolic
 Real = esym.Real
 
 
+@dataclass(frozen=True)
+class FilmGrid:
+    """The film's elements along the pad: node positions, element lengths and starts, and each
+    node's pad area (its tributary length times the film's width)."""
+
+    x_ref: np.ndarray  # node reference x, increasing from 0 to the pad's length
+    length: np.ndarray  # element lengths
+    start: np.ndarray  # element start x
+    area: np.ndarray  # pad area per node
+    pitch: float | None = None  # the element length of a uniform grid
+
+    def element_at(self, x: float) -> int:
+        """The element holding film x (the pad's end: the last element). A uniform grid finds it
+        by floor division, as the simulator always has: a node whose x rounds below its element's
+        start is held at the end of the element before it, the same point, and keeping it there
+        keeps today's runs bit-identical. A graded grid: the last element starting at or before
+        x."""
+        last = self.length.size - 1
+        if self.pitch is not None:
+            return min(int(x // self.pitch + 1e-9), last)
+        return min(int(np.searchsorted(self.start, x, side="right")) - 1, last)
+
+
 def film_grid(
-    pad_length: float, elements: int, width: float
-) -> tuple[np.ndarray, float, np.ndarray]:
-    """The film's node positions along the pad, its element length and each node's pad area
-    (half at the two ends)."""
+    pad_length: float, elements: int, width: float, grip: float, edge_element: float | None = None
+) -> FilmGrid:
+    """The film's elements: uniform, or graded with ``edge_element`` long ones over the grip and
+    at the clamp edge, where the foot bends the film, growing geometrically to the pad's end
+    (docs/simulator.md, "Graded film elements")."""
+    if edge_element is None:
+        return _uniform_grid(pad_length, elements, width)
+    return _graded_grid(pad_length, elements, width, grip, edge_element)
+
+
+def _uniform_grid(pad_length: float, elements: int, width: float) -> FilmGrid:
+    """Equal elements, every number as the simulator has always had it (bit-identical runs)."""
     x_ref = np.linspace(0.0, pad_length, elements + 1)
     dx = pad_length / elements
     area = np.full(elements + 1, width * dx)
     area[[0, -1]] /= 2
-    return x_ref, dx, area
+    return FilmGrid(x_ref, np.full(elements, dx), np.arange(elements) * dx, area, dx)
+
+
+def _graded_grid(
+    pad_length: float, elements: int, width: float, grip: float, edge_element: float
+) -> FilmGrid:
+    """The grip in equal elements no longer than ``edge_element`` (so it ends on a node), then
+    the bonded pad from ``edge_element`` growing by one ratio per element to its end."""
+    in_grip = max(math.ceil(grip / edge_element - 1e-9), 1)
+    on_pad = elements - in_grip
+    rest = pad_length - grip
+    if on_pad < 1 or on_pad * edge_element >= rest * (1 - 1e-9):
+        raise ValueError(
+            f"a graded film of {elements} elements cannot start at {edge_element} m: the pad past"
+            f" the grip takes {on_pad} elements for {rest} m"
+        )
+    ratio = _growth_ratio(edge_element, on_pad, rest)
+    pad = grip + edge_element * np.cumsum(ratio ** np.arange(on_pad))
+    pad[-1] = pad_length
+    x_ref = np.concatenate([np.linspace(0.0, grip, in_grip + 1), pad])
+    length = np.diff(x_ref)
+    tributary = np.concatenate([[0.0], length]) + np.concatenate([length, [0.0]])
+    return FilmGrid(x_ref, length, x_ref[:-1], width * tributary / 2)
+
+
+def _growth_ratio(first: float, count: int, total: float) -> float:
+    """The ratio q > 1 of a geometric series of ``count`` terms from ``first`` that sums to
+    ``total`` (the sum rises with q, so one root)."""
+
+    def excess(q: float) -> float:
+        return first * sum(q**k for k in range(count)) - total
+
+    high = 2.0
+    while excess(high) < 0:
+        high *= 2
+    return float(brentq(excess, 1.0 + 1e-12, high, xtol=1e-14))
 
 
 def _shared_law(mbs: Any, connectors: list[Any], law: Any) -> Any:
@@ -61,28 +130,26 @@ def _shared_law(mbs: Any, connectors: list[Any], law: Any) -> Any:
 def add_film(
     mbs: Any,
     film: FilmMechanics,
-    x_ref: np.ndarray,
-    dx: float,
+    grid: FilmGrid,
     foot_body: Any,
     ankle_height: float,
     grip: float,
     origin: float = 0.0,
     gravity: tuple[float, float] = (0.0, -GRAVITY),
 ) -> tuple[list[Any], list[Any], Any]:
-    """The film's nodes at ``origin + x_ref`` on the wall (the foot's reference x is ``origin``),
-    its elements under ``gravity``, clamped over ``grip`` to the foot's sole; returns (nodes,
-    elements, curvature-stop law). The platform's plate lies under gravity (-z); a wall has it
-    along the film (-x)."""
-    n = len(x_ref) - 1
+    """The film's nodes at ``origin + grid.x_ref`` on the wall (the foot's reference x is
+    ``origin``), its elements under ``gravity``, clamped over ``grip`` to the foot's sole; returns
+    (nodes, elements, curvature-stop law). The platform's plate lies under gravity (-z); a wall
+    has it along the film (-x)."""
     nodes = [
         mbs.AddNode(NodePoint2DSlope1(referenceCoordinates=[origin + x, 0.0, 1.0, 0.0]))
-        for x in x_ref
+        for x in grid.x_ref
     ]
     elements = [
         mbs.AddObject(
             ObjectANCFCable2D(
                 nodeNumbers=[nodes[i], nodes[i + 1]],
-                length=dx,
+                length=float(grid.length[i]),
                 massPerLength=film.mass_per_length,
                 bendingStiffness=film.bending_stiffness,
                 axialStiffness=film.axial_stiffness,
@@ -91,7 +158,7 @@ def add_film(
                 useReducedOrderIntegration=1,
             )
         )
-        for i in range(n)
+        for i in range(grid.length.size)
     ]
     stop = CreateSymbolicUserFunction(
         mbs, _bending_moment(film), "bendingMomentUserFunction", itemTypeName="ObjectANCFCable2D"
@@ -103,10 +170,10 @@ def add_film(
                 loadVector=[*gravity, 0.0],
             )
         )
-    for x in film_shape.clamp_pins(x_ref, grip):
-        e = min(int(x // dx + 1e-9), n - 1)
+    for x in film_shape.clamp_pins(grid.x_ref, grip):
+        e = grid.element_at(x)
         on_film = mbs.AddMarker(
-            MarkerBodyPosition(bodyNumber=elements[e], localPosition=[x - e * dx, 0.0, 0.0])
+            MarkerBodyPosition(bodyNumber=elements[e], localPosition=[x - grid.start[e], 0.0, 0.0])
         )
         on_foot = mbs.AddMarker(
             MarkerBodyPosition(bodyNumber=foot_body, localPosition=[x, -ankle_height, 0.0])

@@ -1,14 +1,22 @@
-"""Table I against the film's element count: every baseline and the published optimum at each N,
-as a change against the acquisition's N (same process, two workers). Shows which N keep Table I
-(pull, landing, jitter within 1 %, film radius within 5 %) and the time each costs.
+"""Table I against the film's elements: every baseline and the published optimum on each film, as
+a change against the acquisition's uniform film (today's) and against the converged reference
+(uniform, evaluate's check_nodes), with the CPU time each costs. Shows which films keep Table I
+(pull, landing, jitter within 1 %, film radius within 5 %) and at what speed.
 
-Run: python bench/film_elements.py [N,N,...]   (default 20,30,40,50)
+A film is ``N`` (uniform, N elements) or ``N@h`` (graded: N elements, h mm long over the grip and
+at the clamp edge, growing to the pad's end; docs/simulator.md, "Graded film elements"). The runs
+are interleaved film by film within each trajectory, in this one process, so that other load on
+the machine falls on every film alike; the time is each run's CPU seconds, the least of
+``rounds`` runs.
+
+Run: python bench/film_elements.py [FILM,FILM,...] [rounds]   (default 20,30,40,50,80 and 1)
 """
 
 from __future__ import annotations
 
 import dataclasses
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -19,13 +27,74 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from ftfof.evaluate.runs import PAPER_OPTIMUM, figures_of
 from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, context_of
 from ftfof.pipeline.params_file import load_params
-from ftfof.sim import pool
+from ftfof.sim.simulate import simulate
+from ftfof.sim.spec import SampleSpec
 from stages.runtime import tune_allocator
 
-FIGURES = ("peak_pull", "landing_pre_pressure", "jitter", "peak_body_acc", "min_bend_radius")
+FIGURES = ("peak_pull", "landing_pre_pressure", "jitter", "min_bend_radius")
+SHORT = {
+    "peak_pull": "pull",
+    "landing_pre_pressure": "land",
+    "jitter": "jit",
+    "min_bend_radius": "R",
+}
+TOLERANCE = {"peak_pull": 1.0, "landing_pre_pressure": 1.0, "jitter": 1.0, "min_bend_radius": 5.0}
 
 
-def main(counts: list[int]) -> None:
+def parse_film(label: str) -> tuple[int, float | None]:
+    """``N`` -> (N, None), uniform; ``N@h`` -> (N, h mm in m), graded."""
+    count, _, edge = label.partition("@")
+    return int(count), float(edge) / 1000 if edge else None
+
+
+def on_film(spec: SampleSpec, label: str) -> SampleSpec:
+    """``spec`` simulated on the film ``label``."""
+    nodes, edge = parse_film(label)
+    solver = spec.solver.model_copy(update={"nodes": nodes, "edge_element": edge})
+    return dataclasses.replace(spec, key=f"{spec.key}:{label}", solver=solver)
+
+
+def run_all(specs: list[SampleSpec], films: list[str], rounds: int, T3: float) -> pd.DataFrame:
+    """One row per (trajectory, film): Table I's figures and the least CPU seconds a run."""
+    rows = []
+    for spec in specs:
+        for label in films:
+            seconds = []
+            for _ in range(rounds):
+                start = time.process_time()
+                result = simulate(on_film(spec, label))
+                seconds.append(time.process_time() - start)
+                assert result.ok, result.error
+            figures = figures_of(pd.Series({**result.scalars, **result.channels}), T3)
+            name = spec.source.removeprefix("baseline:")
+            rows.append({"name": name, "film": label, **figures, "seconds": min(seconds)})
+    return pd.DataFrame(rows).set_index(["name", "film"])
+
+
+def changes(table: pd.DataFrame, against: str) -> pd.DataFrame:
+    """Each figure's change (%) against the film ``against``, the same trajectory's."""
+    base = table.xs(against, level="film")
+    out = 100 * (table[list(FIGURES)] / base[list(FIGURES)].reindex(table.index, level="name") - 1)
+    return out.rename(columns=SHORT)
+
+
+def summary(table: pd.DataFrame, today: str, converged: str) -> pd.DataFrame:
+    """Per film, the largest |change| over the four baselines and Pf's own, against today's film
+    and the converged one, and the time as a ratio to today's film (range over trajectories)."""
+    ratio = table["seconds"] / table["seconds"].xs(today, level="film").reindex(
+        table.index, level="name"
+    )
+    parts = []
+    for against in (today, converged):
+        c = changes(table, against).abs()
+        pf = c.index.get_level_values("name") == PAPER_OPTIMUM.removeprefix("baseline:")
+        four = c[~pf].groupby(level="film").max().add_suffix(f" 4 vs {against}")
+        parts += [four, c[pf].droplevel("name").add_suffix(f" Pf vs {against}")]
+    time_range = ratio.groupby(level="film").agg(["min", "max"]).add_prefix("time ")
+    return pd.concat([*parts, time_range], axis=1)
+
+
+def main(films: list[str], rounds: int) -> None:
     tune_allocator()
     params = load_params(Path(__file__).resolve().parents[1] / "params.yaml")
     ctx = context_of(params)
@@ -33,26 +102,20 @@ def main(counts: list[int]) -> None:
     specs = baseline_specs(on, baseline_trajectories(params, ctx))
     if ctx.robot.published_optimum is not None:
         specs.append(on.bezier(PAPER_OPTIMUM, 0, np.asarray(ctx.robot.published_optimum)))
-    reference = params.acquire.solver.nodes
-    counts = sorted({*counts, reference})
-    T3 = ctx.policy.timing.T3
-    rows: dict[tuple[str, int], dict[str, float]] = {}
-    for n in counts:
-        solver = params.acquire.solver.model_copy(update={"nodes": n})
-        at_n = [dataclasses.replace(s, key=f"{s.key}:{n}", solver=solver) for s in specs]
-        for result in (r for batch in pool.run_local(at_n, 2) for r in batch):
-            assert result.ok, result.error
-            figures = figures_of(pd.Series({**result.scalars, **result.channels}), T3)
-            name = result.source.removeprefix("baseline:")
-            rows[name, n] = {**{f: figures[f] for f in FIGURES}, "seconds": result.wall_time}
-    print(f"change against N = {reference} (grip / element length integral where N % 10 == 0)")
-    for name in dict.fromkeys(s.source.removeprefix("baseline:") for s in specs):
-        for n in counts:
-            here, base = rows[name, n], rows[name, reference]
-            changes = " ".join(f"{f} {100 * (here[f] / base[f] - 1):+6.2f} %" for f in FIGURES)
-            print(f"{name:14s} N = {n:3d}  {changes}  {here['seconds']:.2f} s")
+    today = str(params.acquire.solver.nodes)
+    converged = str(params.evaluate.check_nodes or 2 * params.acquire.solver.nodes)
+    films = list(dict.fromkeys([today, converged, *films]))
+    table = run_all(specs, films, rounds, ctx.policy.timing.T3)
+    pd.set_option("display.width", 250, "display.max_columns", 40, "display.precision", 3)
+    print("figures and CPU seconds a run\n", table, "\n")
+    print(f"change (%) against uniform {today}\n", changes(table, today), "\n")
+    print(f"change (%) against uniform {converged}\n", changes(table, converged), "\n")
+    print(f"largest |change| (%), tolerance {TOLERANCE}\n", summary(table, today, converged).T)
 
 
 if __name__ == "__main__":
-    default = "20,30,40,50"
-    main([int(v) for v in (sys.argv[1] if len(sys.argv) > 1 else default).split(",")])
+    default = "20,30,40,50,80"
+    main(
+        (sys.argv[1] if len(sys.argv) > 1 else default).split(","),
+        int(sys.argv[2]) if len(sys.argv) > 2 else 1,
+    )

@@ -48,8 +48,9 @@ class Solver(Strict):
     """Exudyn settings (docs/simulator.md): implicit generalised-alpha with step control."""
 
     nodes: Annotated[int, Field(ge=4)] = 20  # bond elements along the film
-    # m: a graded film, its elements this long over the grip and at the clamp edge, growing
-    # geometrically to the pad's end; None: uniform (docs/simulator.md, "Graded film elements")
+    # m: a graded film, its elements this long over the grip, at the clamp edge and at the pad's
+    # end, growing geometrically toward the pad's middle; None: uniform (docs/simulator.md,
+    # "Graded film elements")
     edge_element: PositiveFloat | None = None
     step: PositiveFloat = 5e-4  # s, while bonds break or the pad lands
     # s, elsewhere: the same, since a change of step shakes the body (docs/simulator.md)

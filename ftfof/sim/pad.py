@@ -65,9 +65,10 @@ class FilmGrid:
 def film_grid(
     pad_length: float, elements: int, width: float, grip: float, edge_element: float | None = None
 ) -> FilmGrid:
-    """The film's elements: uniform, or graded with ``edge_element`` long ones over the grip and
-    at the clamp edge, where the foot bends the film, growing geometrically to the pad's end
-    (docs/simulator.md, "Graded film elements")."""
+    """The film's elements: uniform, or graded with ``edge_element`` long ones over the grip, at
+    the clamp edge, where the foot bends the film, and at the pad's end, where its last bonds let
+    go (the detachment's jitter peaks there), longest in the pad's middle (docs/simulator.md,
+    "Graded film elements")."""
     if edge_element is None:
         return _uniform_grid(pad_length, elements, width)
     return _graded_grid(pad_length, elements, width, grip, edge_element)
@@ -86,7 +87,8 @@ def _graded_grid(
     pad_length: float, elements: int, width: float, grip: float, edge_element: float
 ) -> FilmGrid:
     """The grip in equal elements no longer than ``edge_element`` (so it ends on a node), then
-    the bonded pad from ``edge_element`` growing by one ratio per element to its end."""
+    the bonded pad from ``edge_element`` at either end, growing by one ratio per element toward
+    its middle."""
     in_grip = max(math.ceil(grip / edge_element - 1e-9), 1)
     on_pad = elements - in_grip
     rest = pad_length - grip
@@ -95,8 +97,9 @@ def _graded_grid(
             f"a graded film of {elements} elements cannot start at {edge_element} m: the pad past"
             f" the grip takes {on_pad} elements for {rest} m"
         )
-    ratio = _growth_ratio(edge_element, on_pad, rest)
-    pad = grip + edge_element * np.cumsum(ratio ** np.arange(on_pad))
+    k = np.arange(on_pad)
+    steps = np.minimum(k, on_pad - 1 - k)  # elements from the nearer end of the pad
+    pad = grip + edge_element * np.cumsum(_growth_ratio(steps, rest / edge_element) ** steps)
     pad[-1] = pad_length
     x_ref = np.concatenate([np.linspace(0.0, grip, in_grip + 1), pad])
     length = np.diff(x_ref)
@@ -104,17 +107,16 @@ def _graded_grid(
     return FilmGrid(x_ref, length, x_ref[:-1], width * tributary / 2)
 
 
-def _growth_ratio(first: float, count: int, total: float) -> float:
-    """The ratio q > 1 of a geometric series of ``count`` terms from ``first`` that sums to
-    ``total`` (the sum rises with q, so one root)."""
+def _growth_ratio(steps: np.ndarray, total: float) -> float:
+    """The ratio q > 1 with sum(q ** steps) = ``total`` (the sum rises with q: one root)."""
 
     def excess(q: float) -> float:
-        return first * sum(q**k for k in range(count)) - total
+        return float(np.sum(q**steps)) - total
 
     high = 2.0
     while excess(high) < 0:
         high *= 2
-    return float(brentq(excess, 1.0 + 1e-12, high, xtol=1e-14))
+    return float(brentq(excess, 1.0, high, xtol=1e-14))
 
 
 def _shared_law(mbs: Any, connectors: list[Any], law: Any) -> Any:

@@ -1,4 +1,4 @@
-"""The film's element grid: uniform as it always was, or graded toward the clamp edge."""
+"""The film's element grid: uniform as it always was, or graded: short at the pad's ends."""
 
 import numpy as np
 import pytest
@@ -31,7 +31,11 @@ def test_the_graded_grid_ends_the_grip_on_a_node_and_spreads_the_pad_area(elemen
     assert (length > 0).all()
     assert grid.x_ref[clamp_edge(grid.x_ref, GRIP)] == pytest.approx(GRIP, abs=1e-12)
     assert length[: clamp_edge(grid.x_ref, GRIP) + 1].max() <= edge * (1 + 1e-9)
-    assert (np.diff(length[clamp_edge(grid.x_ref, GRIP) :]) > 0).all()  # growing past the edge
+    pad = length[clamp_edge(grid.x_ref, GRIP) :]
+    assert pad[0] == pytest.approx(edge) and pad[-1] == pytest.approx(edge)
+    assert pad.max() > 2 * edge and (pad <= pad.max()).all()
+    middle = int(np.argmax(pad))
+    assert (np.diff(pad[: middle + 1]) >= 0).all() and (np.diff(pad[middle:]) <= 0).all()
     tributary = (np.r_[0.0, length] + np.r_[length, 0.0]) / 2
     np.testing.assert_allclose(grid.area, WIDTH * tributary)
     assert grid.area.sum() == pytest.approx(PAD * WIDTH, rel=1e-12)

@@ -10,6 +10,7 @@ import json
 import os
 import subprocess
 import sys
+import tempfile
 import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -54,13 +55,22 @@ def dvc(*args: str) -> str:
     # `dvc queue start` spawns workers as `dvc`: they must find this environment's, not none
     bin_dir = str(Path(sys.executable).parent)
     env = {**os.environ, "PATH": os.pathsep.join([bin_dir, os.environ.get("PATH", "")])}
-    result = subprocess.run(
-        [sys.executable, "-m", "dvc", *args], capture_output=True, text=True, env=env
-    )
-    if result.returncode != 0:
-        message = (result.stderr or result.stdout).strip().splitlines()
+    code, stdout, stderr = output_of([sys.executable, "-m", "dvc", *args], env)
+    if code != 0:
+        message = (stderr or stdout).strip().splitlines()
         raise FtfofError(f"dvc {' '.join(args[:2])}", message[-1] if message else "failed")
-    return result.stdout
+    return stdout
+
+
+def output_of(command: list[str], env: dict[str, str]) -> tuple[int, str, str]:
+    """(exit code, stdout, stderr) of ``command`` once it exits. Its output goes to files, not
+    pipes: `dvc queue start` leaves a daemon holding the output it inherited, and a pipe would
+    stay open, and this call hang, until the last queue worker exits."""
+    with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
+        code = subprocess.run(command, stdout=out, stderr=err, env=env).returncode
+        out.seek(0)
+        err.seek(0)
+        return code, out.read(), err.read()
 
 
 def run(

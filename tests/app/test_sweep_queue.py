@@ -28,3 +28,21 @@ def test_queue_status_is_read_for_the_sweeps_own_experiments_only():
     names = ["mst_q-glass", "mst_m3f-glass", "mst_q-acryl"]
     assert unfinished(STATUS, names) == ["mst_q-glass", "mst_m3f-glass"]
     assert failed(STATUS, names) == ["mst_q-acryl"]
+
+
+def test_a_command_returns_when_it_exits_though_a_daemon_it_left_holds_its_output():
+    """`dvc queue start` leaves its workers holding the output it inherited: the call must not
+    wait for them (it hung a sweep until the idle worker was killed)."""
+    import os
+    import sys
+    import time
+
+    from ftfof.pipeline.sweep import output_of
+
+    sleeper = "import time; time.sleep(30)"
+    daemon = f"import subprocess, sys; subprocess.Popen([sys.executable, '-c', {sleeper!r}]); "
+    daemon += "print('started')"
+    started = time.monotonic()
+    code, out, err = output_of([sys.executable, "-c", daemon], dict(os.environ))
+    assert (code, out.strip(), err) == (0, "started", "")
+    assert time.monotonic() - started < 20  # not the daemon's 30 s

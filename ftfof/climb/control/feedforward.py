@@ -35,7 +35,13 @@ from numpy.typing import NDArray
 
 from ftfof.climb.control.forces import ForceDistributor, Stance
 from ftfof.climb.control.replan import BodyPlan, Replanner, ReplanRequest
-from ftfof.climb.control.slip import SlipDetector, adapt_weights, estimate_pad, slip_rate
+from ftfof.climb.control.slip import (
+    SlipDetector,
+    adapt_weights,
+    estimate_adhesion,
+    estimate_pad,
+    slip_rate,
+)
 from ftfof.climb.legs import SagittalChain
 from ftfof.config import GRAVITY
 from ftfof.identify.estimate import Estimate
@@ -169,13 +175,12 @@ class FeedForward:
         plan: BodyPlan,
     ) -> BodyPlan | None:
         """Estimate the slipping foot's pad from its last forces, believe it, and ask for a
-        plan (an estimate off the physical range, mu <= 0 or not finite, is not believed)."""
+        plan (an estimate that stays off the physical range is not believed)."""
         window = forces(foot)
         if window is None:
             return None
-        prior = Estimate(float(self.believed.friction[foot]), float(self.believed.adhesion[foot]))
-        got = estimate_pad(*window, prior=prior)
-        if not (math.isfinite(got.mu) and math.isfinite(got.adhesion) and got.mu > 0):
+        got = self._estimate(foot, *window)
+        if got is None:
             return None
         self.believed.friction[foot], self.believed.adhesion[foot] = got.mu, got.adhesion
         self.counts.estimates += 1
@@ -193,3 +198,15 @@ class FeedForward:
         new = self.replanner(request)
         self.counts.replans += new is not None
         return new
+
+    def _estimate(self, foot: int, fn: Array, ft: Array) -> Estimate | None:
+        """The pad's (mu, F_adh) from a window of its forces. Where the two-parameter fit gives
+        mu <= 0, the pad is losing its bonds as it slides (a peel under shear, not a slide on a
+        fixed cone); its mu stays believed and only its F_adh, what it still holds, is fitted.
+        None if even that is off the range (F_adh not finite, or <= 0)."""
+        mu = float(self.believed.friction[foot])
+        got = estimate_pad(fn, ft, prior=Estimate(mu, float(self.believed.adhesion[foot])))
+        if math.isfinite(got.mu) and math.isfinite(got.adhesion) and got.mu > 0:
+            return got
+        adhesion = estimate_adhesion(fn, ft, mu)
+        return Estimate(mu, adhesion) if math.isfinite(adhesion) and adhesion > 0 else None

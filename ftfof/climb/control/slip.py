@@ -108,3 +108,15 @@ def estimate_pad(
     if prior is None:
         raise ValueError("the Kalman estimator starts from a prior: the pad's assumed mu, F_adh")
     return kalman(fn, ft, prior).final
+
+
+def estimate_adhesion(fn: Array, ft: Array, mu: float) -> float:
+    """F_adh of a sliding pad whose mu is taken as known: each sample sits on the cone's edge,
+    |f_t| = mu (f_n + F_adh), so F_adh = mean(|f_t| / mu - f_n). This is what is left to estimate
+    when the two-parameter fit is off the physical range: a pad that loses its bonds while it
+    slides holds ever less shear as its pull eases, f_t and f_n fall together, and the fit's
+    slope, mu, comes out negative (FR's slide before it lets go, issue 40)."""
+    if mu <= 0:
+        raise ValueError(f"the adhesion estimate needs a positive mu, got {mu}")
+    fn = np.asarray(fn, dtype=float)
+    return float(np.mean(np.abs(np.asarray(ft, dtype=float)) / mu - fn))

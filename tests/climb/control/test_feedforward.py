@@ -28,7 +28,7 @@ def _window(leg):
     return fn, 0.3 * (fn + 5.0)  # a pad of mu 0.3, F_adh 5 N
 
 
-def _run(controller, chain, velocity, steps):
+def _run(controller, chain, velocity, steps, window=_window):
     theta = chain.leg.inverse(np.stack([STROKE, np.zeros(4)], axis=1))
     spacing = 0.2
     feet = STROKE + np.array([spacing, spacing, -spacing, -spacing]) / 2 - chain.hip[0]
@@ -43,7 +43,7 @@ def _run(controller, chain, velocity, steps):
             feet,
             np.ones(4, dtype=bool),
             velocity,
-            _window,
+            window,
         )
     return out
 
@@ -77,3 +77,20 @@ def test_weights_alone_neither_estimates_nor_replans(m3f):
     steps = round(SLIP_HOLD * CONTROL_RATE_HZ) + 2
     _run(controller, chain, SLIDING, steps)
     assert controller.counts.slips == 1 and controller.counts.estimates == 0
+
+
+def test_replan_believes_what_a_peeling_pad_still_holds_where_its_mu_fit_is_negative(m3f):
+    """f_t and f_n falling together (a pad losing its bonds as it slides) fit mu < 0: the pad
+    keeps its believed mu and gets the adhesion it showed, so the QP unloads it."""
+
+    def peel(leg):
+        fn = np.linspace(-3.8, -0.5, 15)
+        return fn, FRICTION * (fn + np.linspace(10.0, 2.0, 15))
+
+    seen = []
+    controller, chain = _controller(m3f, "replan", lambda request: seen.append(request))
+    _run(controller, chain, SLIDING, round(SLIP_HOLD * CONTROL_RATE_HZ) + 2, peel)
+    assert controller.counts.estimates == 1 and len(seen) == 1
+    assert seen[0].friction[1] == FRICTION
+    assert seen[0].adhesion[1] == pytest.approx(6.0, rel=1e-9)
+    assert seen[0].adhesion[0] == ADHESION

@@ -10,7 +10,10 @@ Each control step (CONTROL_RATE_HZ, the force sensor's rate; the torques hold in
    servo limits and its QP weights;
 3. the trunk wrench: the robot's weight carried up the wall, plus a PD on the body's error from
    its plan (x) and from the wall's plane (z, pitch);
-4. the QP's forces, and their torques -J^T f as the servos' feed-forward.
+4. the QP's forces plus each foot's force trim, and their torques -J^T f as the servos'
+   feed-forward. The trim integrates what the pad's sensor misses of the QP's force: the joint
+   PD holds its targets and the pad and film give under the foot about as much as the leg, so
+   -J^T f alone got about half of f to the wall (issue 40).
 
 The CoM is the trunk's: the legs are a quarter of the mass and sit about the hips, so the
 wrench's moment leaves them out. Controllers:
@@ -54,6 +57,8 @@ SLIP_HOLD = 0.01  # s above the threshold before a slip is declared
 SLIP_SPAN = 0.02  # m/s: the slip rate's scale above the threshold (slip_rate)
 BODY_BANDWIDTH_HZ = 5.0  # the trunk wrench's PD, critically damped
 ESTIMATE_SAMPLES = 15  # force samples per estimate (the Kalman estimator's window)
+FORCE_TIME_CONSTANT = 0.02  # s: the force trim's integral action on the pads' measured forces
+MAX_TRIM = 5.0  # N per force component: the trim's bound (a peeling pad must not wind it up)
 
 # a foot's last ESTIMATE_SAMPLES forces on it (f_n, f_t), or None while there are fewer
 ForceWindow = Callable[[int], tuple[Array, Array] | None]
@@ -98,6 +103,7 @@ class FeedForward:
     def __post_init__(self) -> None:
         self.weights = np.tile(NOMINAL_WEIGHTS, (len(self.pads.friction), 1))
         self.believed = Pads(self.pads.friction.copy(), self.pads.adhesion.copy())
+        self.trim = np.zeros((len(self.pads.friction), 2))
 
     def step(
         self,
@@ -130,13 +136,31 @@ class FeedForward:
         out = np.zeros((len(stance), 3))
         on = np.flatnonzero(stance)
         wrench = self._wrench(t, body, body_rate, plan)
-        result = self.distributor.solve(self._stance(on, body, theta, feet, weights), wrench)
+        qp = self._stance(on, body, theta, feet, weights)
+        result = self.distributor.solve(qp, wrench)
         self.counts.solves += 1
         if not result.solved:
             self.counts.failed += 1
             return out, new_plan
-        out[on] = result.torques
+        force = result.forces + self._trim(on, result.forces, forces, dt)
+        out[on] = -np.einsum("nij,ni->nj", qp.jacobian, force)
         return out, new_plan
+
+    def _trim(self, on: Array, wanted: Array, forces: ForceWindow, dt: float) -> Array:
+        """The stance feet's force trims, integrating what the pads miss of the QP's forces.
+        The servos' PD holds the joints on their targets, and the pad and film give under the
+        foot about as much as the leg does, so -J^T f alone gets about half of f to the wall.
+        A foot off the stance, or without a sensor window yet, starts again from zero."""
+        trim = np.zeros_like(self.trim)
+        for k, foot in enumerate(on):
+            window = forces(int(foot))
+            if window is None:
+                continue
+            measured = np.array([window[1][-1], window[0][-1]])
+            step = (wanted[k] - measured) * dt / FORCE_TIME_CONSTANT
+            trim[foot] = np.clip(self.trim[foot] + step, -MAX_TRIM, MAX_TRIM)
+        self.trim = trim
+        return trim[on]
 
     def _stance(self, on: Array, body: Array, theta: Array, feet: Array, weights: Array) -> Stance:
         c, s = math.cos(body[2]), math.sin(body[2])

@@ -5,7 +5,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from ftfof.climb.control.feedforward import CONTROL_RATE_HZ, SLIP_HOLD, FeedForward, Pads
+from ftfof.climb.control.feedforward import (
+    CONTROL_RATE_HZ,
+    FORCE_TIME_CONSTANT,
+    MAX_TRIM,
+    SLIP_HOLD,
+    FeedForward,
+    Pads,
+)
 from ftfof.climb.legs import sagittal_chain
 from tests.climb.control.stances import ADHESION, FRICTION, MASS, STROKE
 
@@ -94,3 +101,27 @@ def test_replan_believes_what_a_peeling_pad_still_holds_where_its_mu_fit_is_nega
     assert seen[0].friction[1] == FRICTION
     assert seen[0].adhesion[1] == pytest.approx(6.0, rel=1e-9)
     assert seen[0].adhesion[0] == ADHESION
+
+
+def _unloaded(leg):
+    return np.zeros(15), np.zeros(15)  # the pads report no force: the servos miss all of it
+
+
+def test_the_force_trim_integrates_what_the_pads_miss_of_the_qp_forces(m3f):
+    controller, chain = _controller(m3f, "none")
+    _run(controller, chain, np.zeros(4), 1, _unloaded)
+    first = controller.trim.copy()  # the QP's forces times dt / FORCE_TIME_CONSTANT
+    assert np.abs(first).max() > 0
+    _run(controller, chain, np.zeros(4), 1, _unloaded)
+    assert controller.trim == pytest.approx(2 * first, rel=1e-6)  # still: the same QP each step
+    steps = round(4 * FORCE_TIME_CONSTANT * CONTROL_RATE_HZ)
+    _run(controller, chain, np.zeros(4), steps, _unloaded)
+    trim = controller.trim
+    assert np.abs(trim).max() == pytest.approx(MAX_TRIM)  # bounded, not wound up
+    assert np.all(np.sign(trim) == np.sign(first))
+
+
+def test_the_force_trim_stays_zero_until_the_pads_have_a_sensor_window(m3f):
+    controller, chain = _controller(m3f, "none")
+    _run(controller, chain, np.zeros(4), 3, lambda leg: None)
+    assert not controller.trim.any()

@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import astuple, dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
@@ -69,7 +69,8 @@ class Pads:
     """Each foot's pad as the controller believes it."""
 
     friction: Array  # (4,) mu
-    adhesion: Array  # (4,) F_adh, N
+    adhesion: Array  # (4,) F_adh, N: the shear capacity seen as normal load
+    pull_off: Array  # (4,) the most each pad holds pulled normal to the wall, N
 
 
 @dataclass
@@ -102,7 +103,7 @@ class FeedForward:
 
     def __post_init__(self) -> None:
         self.weights = np.tile(NOMINAL_WEIGHTS, (len(self.pads.friction), 1))
-        self.believed = Pads(self.pads.friction.copy(), self.pads.adhesion.copy())
+        self.believed = Pads(*(np.array(a, dtype=float) for a in astuple(self.pads)))
         self.trim = np.zeros((len(self.pads.friction), 2))
 
     def step(
@@ -173,6 +174,7 @@ class FeedForward:
             adhesion=self.believed.adhesion[on],
             torque_limit=np.tile(self.chain.torque_limits, (len(on), 1)),
             weight=weights[on],
+            pull_off=self.believed.pull_off[on],
         )
 
     def _wrench(self, t: float, body: Array, body_rate: Array, plan: BodyPlan) -> Array:
@@ -206,7 +208,9 @@ class FeedForward:
         got = self._estimate(foot, *window)
         if got is None:
             return None
-        self.believed.friction[foot], self.believed.adhesion[foot] = got.mu, got.adhesion
+        pads = self.believed
+        pads.pull_off[foot] *= got.adhesion / pads.adhesion[foot]  # both s x strength x area
+        pads.friction[foot], pads.adhesion[foot] = got.mu, got.adhesion
         self.counts.estimates += 1
         request = ReplanRequest(
             t,

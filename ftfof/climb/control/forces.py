@@ -24,8 +24,11 @@ the weight acts on c_i = f_i + (0, F_adh,i), the force measured from the apex of
 shifted pyramid. Lowering a foot's normal weight then hands it a larger share of the pressing
 (c_n), which is what §5's weight adaptation relies on.
 
-Per stance foot, with its own mu and F_adh: |f_t| <= mu (f_n + F_adh), f_n >= -F_adh, and for
-each joint |J_i^T f_i| <= tau_max (a joint without a servo limit has tau_max = inf).
+Per stance foot, with its own mu, F_adh and pull-off P: |f_t| <= mu (f_n + F_adh), f_n >= -P, and
+for each joint |J_i^T f_i| <= tau_max (a joint without a servo limit has tau_max = inf). F_adh is
+the pad's shear capacity seen as extra normal load (s tau_max A / mu, about 35 N on acrylic); the
+pad's normal pull is another capacity, its normal strength s sigma A (about 10 N), so the pyramid
+is cut at P rather than at its apex.
 
 The solver (proxsuite's dense ProxQP) sees the wrench error as three slack variables s with the
 equality A f - s = w, and minimises s^T W_w s + sum_i c_i^T W_f,i c_i: the same QP, but with a
@@ -67,6 +70,7 @@ class Stance:
     adhesion: Array  # (n,) F_adh, N (negative: a pad that must be pressed to hold)
     torque_limit: Array  # (n, 3) N m; inf for a joint without a servo limit
     weight: Array  # (n, 2) W_f's diagonal: tangential, normal
+    pull_off: Array  # (n,) the most the pad may pull on its foot, N (f_n >= -pull_off)
 
     def __post_init__(self) -> None:
         n = len(self.offset)
@@ -79,6 +83,7 @@ class Stance:
             "adhesion": (n,),
             "torque_limit": (n, 3),
             "weight": (n, 2),
+            "pull_off": (n,),
         }
         for name, shape in shapes.items():
             value = np.asarray(getattr(self, name), dtype=float)
@@ -128,15 +133,15 @@ def wrench_map(offset: Array) -> Array:
     return A
 
 
-def cone_rows(friction: Array, adhesion: Array) -> tuple[Array, Array]:
+def cone_rows(friction: Array, adhesion: Array, pull_off: Array) -> tuple[Array, Array]:
     """Rows C f <= u of each foot's adhesion-shifted pyramid: friction up, down, pull-off."""
     n = len(friction)
     C = np.zeros((3 * n, 2 * n))
     u = np.zeros(3 * n)
-    for i, (mu, grip) in enumerate(zip(friction, adhesion, strict=True)):
+    for i, (mu, grip, pull) in enumerate(zip(friction, adhesion, pull_off, strict=True)):
         rows, cols = slice(3 * i, 3 * i + 3), slice(2 * i, 2 * i + 2)
         C[rows, cols] = [[1.0, -mu], [-1.0, -mu], [0.0, -1.0]]
-        u[rows] = [mu * grip, mu * grip, grip]
+        u[rows] = [mu * grip, mu * grip, pull]
     return C, u
 
 
@@ -151,7 +156,7 @@ def torque_rows(jacobian: Array) -> Array:
 
 def constraints(stance: Stance) -> tuple[Array, Array, Array]:
     """C, l, u with l <= C x <= u over x = (f, s): the pyramids, then the torque limits."""
-    cone, upper = cone_rows(stance.friction, stance.adhesion)
+    cone, upper = cone_rows(stance.friction, stance.adhesion, stance.pull_off)
     limit = stance.torque_limit.ravel()
     C = np.vstack([cone, torque_rows(stance.jacobian)])
     C = np.hstack([C, np.zeros((len(C), 3))])  # the slack is free

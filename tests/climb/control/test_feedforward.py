@@ -14,7 +14,10 @@ from ftfof.climb.control.feedforward import (
     Pads,
 )
 from ftfof.climb.legs import sagittal_chain
-from tests.climb.control.stances import ADHESION, FRICTION, MASS, STROKE
+from ftfof.climb.simulate import pull_off_of
+from ftfof.sim.bonds import BondLaw
+from ftfof.sim.slip import adhesion_truth
+from tests.climb.control.stances import ADHESION, FRICTION, MASS, PULL_OFF, STROKE
 
 SLIDING = np.array([0.0, 0.05, 0.0, 0.0])  # FR slides up its patch at 50 mm/s
 
@@ -22,7 +25,7 @@ SLIDING = np.array([0.0, 0.05, 0.0, 0.0])  # FR slides up its patch at 50 mm/s
 def _controller(m3f, mode, replanner=lambda request: None):
     robot = m3f.robot
     chain = sagittal_chain(robot.leg, robot.climber.torque_limits, robot.platform.foot.ankle_height)
-    pads = Pads(np.full(4, FRICTION), np.full(4, ADHESION))
+    pads = Pads(np.full(4, FRICTION), np.full(4, ADHESION), np.full(4, PULL_OFF))
     return FeedForward(mode, chain, MASS, 1e-3, float(chain.hip[1]), pads, replanner), chain
 
 
@@ -101,6 +104,9 @@ def test_replan_believes_what_a_peeling_pad_still_holds_where_its_mu_fit_is_nega
     assert seen[0].friction[1] == FRICTION
     assert seen[0].adhesion[1] == pytest.approx(6.0, rel=1e-9)
     assert seen[0].adhesion[0] == ADHESION
+    # the pull-off and F_adh are one bond strength seen two ways: they scale together
+    assert controller.believed.pull_off[1] == pytest.approx(PULL_OFF * 6.0 / ADHESION)
+    assert controller.believed.pull_off[0] == PULL_OFF
 
 
 def _unloaded(leg):
@@ -125,3 +131,13 @@ def test_the_force_trim_stays_zero_until_the_pads_have_a_sensor_window(m3f):
     controller, chain = _controller(m3f, "none")
     _run(controller, chain, np.zeros(4), 3, lambda leg: None)
     assert not controller.trim.any()
+
+
+@pytest.mark.parametrize("name", ["acrylic", "glass", "painted_wall"])
+def test_a_pads_pull_off_is_its_normal_strength_mu_over_k_of_its_f_adh(params, name):
+    surface = params.surfaces[name]
+    law = BondLaw.from_surface(surface, 1e-3)
+    area, preload = 1e-3, 5.0
+    pull_off = pull_off_of(law, surface, preload, area)
+    ratio = surface.friction / surface.shear_capacity_ratio
+    assert pull_off == pytest.approx(ratio * adhesion_truth(law, preload, area), rel=1e-12)

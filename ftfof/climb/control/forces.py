@@ -19,10 +19,13 @@ feet fixed (the loop's joint PD tracks the motion, §5 handles slip), so what is
 trunk's Newton-Euler equation A f = w, kept as the soft term ||A f - w||^2_{W_w} (the paper's
 W_qddot lets the floating base deviate), the reaction force term with the paper's W_rf as per-foot
 diagonal weights, the contact wrench cones and the torque limits. §2.2.1 splits the reaction
-F_r = F_c + F_m into contact and magnetic force and weighs F_c; our pad's adhesion plays F_m, so
-the weight acts on c_i = f_i + (0, F_adh,i), the force measured from the apex of the adhesion-
-shifted pyramid. Lowering a foot's normal weight then hands it a larger share of the pressing
-(c_n), which is what §5's weight adaptation relies on.
+F_r = F_c + F_m into contact and magnetic force and weighs F_c. A magnet's F_m is a force that is
+always there; a pad's adhesion is a capacity, so the weight acts on f_i itself. Weighed from the
+pyramid's apex, f_i + (0, F_adh,i), the cost pulled every foot toward f_n = -F_adh: on a wall the
+feet's normal forces sum to about zero, so while the weights are equal that costs nothing, but
+once §5 lowered a slipping fore foot's normal weight the QP pressed it +7 N and pulled its
+partner to its pull-off (MST-M3F, F_adh 34.7 N: FL -10.4 N; with the weights on f_i, -0.5 N to
++0.2 N, issue 40).
 
 Per stance foot, with its own mu, F_adh and pull-off P: |f_t| <= mu (f_n + F_adh), f_n >= -P, and
 for each joint |J_i^T f_i| <= tau_max (a joint without a servo limit has tau_max = inf). F_adh is
@@ -165,13 +168,9 @@ def constraints(stance: Stance) -> tuple[Array, Array, Array]:
 
 
 def cost(stance: Stance, wrench_weight: Array) -> tuple[Array, Array]:
-    """H, g of 1/2 x^T H x + g^T x = s^T W_w s + sum_i c_i^T W_f,i c_i over x = (f, s), with c_i
-    the force from the apex of foot i's pyramid, f_i + (0, F_adh,i)."""
-    D = stance.weight.ravel()
-    apex = np.stack([np.zeros(stance.size), stance.adhesion], axis=1).ravel()
-    H = np.diag(2.0 * np.concatenate([D, wrench_weight]))
-    g = np.concatenate([2.0 * D * apex, np.zeros(3)])
-    return H, g
+    """H, g of 1/2 x^T H x + g^T x = s^T W_w s + sum_i f_i^T W_f,i f_i over x = (f, s)."""
+    H = np.diag(2.0 * np.concatenate([stance.weight.ravel(), wrench_weight]))
+    return H, np.zeros(len(H))
 
 
 def tracking(stance: Stance) -> Array:

@@ -20,7 +20,10 @@ Our reading of the paper, whose equations are images:
   minimises the weighted forces, so to move load toward the normal the slipping foot's
   tangential weight goes up and its normal weight down, by one factor alpha = max_factor**rho:
   W_t <- alpha W_t, W_n <- W_n / alpha. The paper's nominal weights put the normal one far below
-  the tangential; the update keeps the other feet's weights.
+  the tangential; the update keeps the other feet's weights. On a wall the feet's normal forces
+  sum to about zero, so a freer normal force lets the slipping foot take more of the trunk's
+  moment, whatever its sign (a fore foot pulls more, a hind foot presses more), while its shear
+  goes to the others; it cannot press a fore foot without pulling its partner.
 """
 
 from __future__ import annotations

@@ -36,7 +36,7 @@ from dataclasses import astuple, dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-from ftfof.climb.control.forces import ForceDistributor, Stance
+from ftfof.climb.control.forces import ForceDistributor, Stance, wrench_map
 from ftfof.climb.control.replan import BodyPlan, Replanner, ReplanRequest
 from ftfof.climb.control.slip import (
     SlipDetector,
@@ -136,7 +136,7 @@ class FeedForward:
                 plan = new_plan or plan
         out = np.zeros((len(stance), 3))
         on = np.flatnonzero(stance)
-        wrench = self._wrench(t, body, body_rate, plan)
+        wrench = self._wrench(t, body, body_rate, plan) - self._others(stance, body, feet, forces)
         qp = self._stance(on, body, theta, feet, weights)
         result = self.distributor.solve(qp, wrench)
         self.counts.solves += 1
@@ -163,12 +163,30 @@ class FeedForward:
         self.trim = trim
         return trim[on]
 
+    def _others(self, stance: Array, body: Array, feet: Array, forces: ForceWindow) -> Array:
+        """The trunk wrench of the feet off the stance, as their pads measure it: the landing
+        foot's press in its hold, which the stance must balance (0 for a foot off the wall).
+        Left out, the QP asked the stance for forces the press made statically impossible, and
+        the force trim pulled against it (FR moved to painted_wall at 7 s: FR slid 1.5 mm at
+        FL's landing at 10 s, 0.7 mm without the trim)."""
+        off = np.flatnonzero(~np.asarray(stance, dtype=bool))
+        measured = [forces(int(foot)) for foot in off]
+        have = [k for k, window in enumerate(measured) if window is not None]
+        if not have:
+            return np.zeros(3)
+        f = np.array([[measured[k][1][-1], measured[k][0][-1]] for k in have])
+        return wrench_map(self._offsets(off[have], body, feet)) @ f.ravel()
+
+    def _offsets(self, which: Array, body: Array, feet: Array) -> Array:
+        """(n, 2) the feet ``which``'s contact points minus the trunk's CoM, wall frame."""
+        height = np.full(len(which), -self.com_height - body[1])
+        return np.stack([feet[which] - body[0], height], axis=1)
+
     def _stance(self, on: Array, body: Array, theta: Array, feet: Array, weights: Array) -> Stance:
         c, s = math.cos(body[2]), math.sin(body[2])
         turn = np.array([[c, -s], [s, c]])  # trunk frame -> wall frame
-        offset = np.stack([feet[on] - body[0], np.full(len(on), -self.com_height - body[1])], 1)
         return Stance(
-            offset=offset,
+            offset=self._offsets(on, body, feet),
             jacobian=turn @ self.chain.leg.jacobian(theta[on]),
             friction=self.believed.friction[on],
             adhesion=self.believed.adhesion[on],

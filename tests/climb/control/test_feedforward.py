@@ -141,3 +141,26 @@ def test_a_pads_pull_off_is_its_normal_strength_mu_over_k_of_its_f_adh(params, n
     pull_off = pull_off_of(law, surface, preload, area)
     ratio = surface.friction / surface.shear_capacity_ratio
     assert pull_off == pytest.approx(ratio * adhesion_truth(law, preload, area), rel=1e-12)
+
+
+def test_the_stance_balances_what_a_foot_off_it_measures_the_landing_press(m3f):
+    """FL in its landing hold presses 5 N (its pad's sensor): the stance feet's forces take it,
+    their normal forces summing to -5 N, and the trunk still gets the planned wrench."""
+
+    def pressing(leg):
+        return (np.full(15, 5.0), np.zeros(15)) if leg == 0 else None
+
+    controller, chain = _controller(m3f, "none")
+    theta = chain.leg.inverse(np.stack([STROKE, np.zeros(4)], axis=1))
+    feet = STROKE + np.array([0.1, 0.1, -0.1, -0.1]) - chain.hip[0]
+    stance = np.array([False, True, True, True])
+    sums = []
+    for window in (lambda leg: None, pressing):
+        torques, _ = controller.step(
+            0.0, np.zeros(3), np.zeros(3), _plan, theta, feet, stance, np.zeros(4), window
+        )
+        pairs = zip(chain.leg.jacobian(theta[1:]), torques[1:], strict=True)
+        forces = [np.linalg.lstsq(-J.T, tau, rcond=None)[0] for J, tau in pairs]
+        sums.append(sum(f[1] for f in forces))
+    assert sums[0] == pytest.approx(0.0, abs=1e-3)
+    assert sums[1] == pytest.approx(-5.0, abs=1e-3)

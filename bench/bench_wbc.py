@@ -27,7 +27,7 @@ STEPS = 1000
 RATE = 1000.0  # Hz, the control rate the problem's drift assumes
 MASS = 0.8  # kg, the M3F climber's estimate
 START = np.array([0.02, 0.08, 0.05, 0.11])  # each foot along its stroke, m (FL FR HL HR)
-FRICTION, ADHESION, WEIGHTS = 0.6, 8.0, (1.0, 1e-3)
+FRICTION, ADHESION, PULL_OFF, WEIGHTS = 0.6, 8.0, 8.0, (1.0, 1e-3)
 
 
 def problems() -> list[tuple[Stance, np.ndarray]]:
@@ -49,6 +49,7 @@ def problems() -> list[tuple[Stance, np.ndarray]]:
             np.full(4, ADHESION),
             np.tile(chain.torque_limits, (4, 1)),
             np.tile(WEIGHTS, (4, 1)),
+            np.full(4, PULL_OFF),
         )
         sway = np.sin(2 * np.pi * 2.0 * t)
         out.append((stance, np.array([MASS * (9.81 + 0.5 * sway), 0.2 * sway, 0.02 * sway])))

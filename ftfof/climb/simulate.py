@@ -76,7 +76,7 @@ def gait_of(spec: ClimbSpec) -> Gait:
 def controller_of(model: Climber, replanner: Replanner) -> FeedForward | None:
     """The stance feet's force control ``climb.controller`` asks for (None: off). It believes
     every pad is on the selected surface, pressed to the pre-pressure: F_adh as the bond law
-    gives it (:func:`ftfof.sim.slip.adhesion_truth`)."""
+    gives it (:func:`ftfof.sim.slip.adhesion_truth`), and its pull-off (:func:`pull_off_of`)."""
     spec = model.spec
     mode = spec.climb.controller
     if mode is None:
@@ -85,15 +85,27 @@ def controller_of(model: Climber, replanner: Replanner) -> FeedForward | None:
     assert climber is not None
     area = float(model.pads[0].area.sum())
     adhesion = adhesion_truth(model.law, spec.robot.pre_pressure, area)
+    pull_off = pull_off_of(model.law, spec.surface, spec.robot.pre_pressure, area)
     return FeedForward(
         mode=mode,
         chain=model.chain,
         mass=robot_mass(spec.robot),
         inertia=climber.trunk_inertia,
         com_height=float(model.chain.hip[1]),
-        pads=Pads(np.full(LEGS, model.law.friction), np.full(LEGS, adhesion)),
+        pads=Pads(*(np.full(LEGS, v) for v in (model.law.friction, adhesion, pull_off))),
         replanner=replanner,
     )
+
+
+def pull_off_of(law: BondLaw, surface: config.Surface, preload: float, area: float) -> float:
+    """The most a pad pressed with ``preload`` holds pulled straight off the wall, N: its bonds'
+    normal strength, s sigma A, with s the preload factor as in adhesion_truth. F_adh, the shear
+    capacity s tau_max A / mu, is k / mu times it (acrylic: 34.7 N against 10.4 N). A film pulled
+    at its heel peels below s sigma A (Kendall's steady peel at 90 degrees, b G, is 1.5 N on
+    acrylic), but the pads hold more than that: a stance fore pad carries 1.9-2.5 N for seconds
+    (the trunk's moment on a lone fore foot) and a whole-bonded one 8.3 N at its partner's
+    landing (issue 40), so b G would refuse the statics of every three-foot stance."""
+    return float(law.preload_factor(preload / area)) * surface.strength * area
 
 
 def climb(

@@ -64,6 +64,7 @@ class Params(Strict):
                 if (change := self.climb.surface_change)
                 else []
             ),
+            ("evaluate.slip_scenario.surface", self.evaluate.slip_scenario.surface, self.surfaces),
         ):
             if name not in presets:
                 raise ValueError(f"{key}: {name!r} is not a preset (have {', '.join(presets)})")

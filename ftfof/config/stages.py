@@ -179,6 +179,21 @@ class Polish(Strict):
     confirm_copies: PositiveInt = 4
 
 
+class SurfaceChange(Strict):
+    """One foot's pad finds another surface mid-climb (issue 40): from ``time`` on, that pad's
+    bonds follow the other preset's law (its friction and adhesion) where they hold."""
+
+    foot: Literal["FL", "FR", "HL", "HR"]  # ftfof.config.LEG_NAMES
+    time: PositiveFloat  # s into the climb; before its end (checked where the climb is built)
+    surface: str  # a preset of ``surfaces``
+
+
+class SlipScenario(SurfaceChange):
+    """evaluate's slip comparison: one trajectory's climb with one pad's surface changed."""
+
+    trajectory: Baseline = "eps_bezier"  # Table I's trajectory that climbs all its steps
+
+
 class Evaluate(Strict):
     """Re-simulation of the optimum against the baselines, and the controller export."""
 
@@ -194,15 +209,9 @@ class Evaluate(Strict):
     # the climbing robot climbs Table I's trajectories the robot can run (docs/climb.md);
     # false, or a robot without a climber block: not
     climb: bool = True
-
-
-class SurfaceChange(Strict):
-    """One foot's pad finds another surface mid-climb (issue 40): from ``time`` on, that pad's
-    bonds follow the other preset's law (its friction and adhesion) where they hold."""
-
-    foot: Literal["FL", "FR", "HL", "HR"]  # ftfof.config.LEG_NAMES
-    time: PositiveFloat  # s into the climb; before its end (checked where the climb is built)
-    surface: str  # a preset of ``surfaces``
+    # the four climb.controllers on slip_scenario's climb (docs/climb.md, "Slip"): false, not
+    slip_comparison: bool = False
+    slip_scenario: SlipScenario = SlipScenario(foot="FL", time=4.0, surface="painted_wall")
 
 
 Controller = Literal["none", "weights", "replan", "both"]

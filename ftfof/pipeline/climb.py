@@ -31,6 +31,7 @@ from ftfof.climb.model import ClimbSpec
 from ftfof.climb.simulate import ClimbRun, chain_of, climb, gait_of
 from ftfof.climb.surface import switch_of
 from ftfof.config import LEG_NAMES, Params
+from ftfof.config.stages import SurfaceChange
 from ftfof.digests import json_sha256
 from ftfof.errors import ParamsError
 from ftfof.files import atomic_path, save_figure, write_json, write_parquet
@@ -259,6 +260,26 @@ def compare_controllers(
         }
     write_json(out_dir / f"{spec.name}.controllers.json", {"slip": table})
     return table
+
+
+def slip_comparison(
+    params: Params, ctx: RobotContext, trajectory: Sampled, out_dir: Path
+) -> dict[str, dict[str, Any]]:
+    """``evaluate.slip_scenario``'s climb under each controller (:func:`compare_controllers`,
+    its files in ``out_dir``): per controller its slip_distance, max_slip_velocity and fell."""
+    scenario = params.evaluate.slip_scenario
+    change = SurfaceChange(foot=scenario.foot, time=scenario.time, surface=scenario.surface)
+    climb_ = params.climb.model_copy(update={"surface_change": change})
+    params = params.model_copy(update={"climb": climb_})
+    name = f"slip_{scenario.trajectory}"
+    spec = spec_for(params, ctx, name, trajectory, None)
+    title = (
+        f"{ctx.name} on {params.surface}: {scenario.trajectory}, {scenario.foot} on"
+        f" {scenario.surface} at {scenario.time:g} s"
+    )
+    table = compare_controllers(params, spec, out_dir, title)
+    keys = ("slip_distance", "max_slip_velocity", "fell")
+    return {controller: {k: row[k] for k in keys} for controller, row in table.items()}
 
 
 def side_view(out: Climbed, title: str) -> Figure:

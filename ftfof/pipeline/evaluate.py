@@ -28,7 +28,7 @@ from ftfof.pipeline.artefacts import (
     read_refine,
 )
 from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, context_of
-from ftfof.pipeline.climb import CLIMBS, climb_all, spec_for
+from ftfof.pipeline.climb import CLIMBS, climb_all, slip_comparison, spec_for
 from ftfof.pipeline.console import console
 from ftfof.pipeline.jobs import FINAL, Acquisition
 from ftfof.pipeline.registry import model_record, promote
@@ -99,6 +99,10 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
         )
         climbed = _climbs(params, ctx, paths.out, baselines, bezier, breaks, workers)
         result.summary["climb"] = climbed
+        if params.evaluate.slip_comparison and ctx.robot.climber is not None:
+            trajectory = baselines[params.evaluate.slip_scenario.trajectory]
+            out = paths.out / CLIMBS / "slip"
+            result.summary["slip"] = slip_comparison(params, ctx, trajectory, out)
         eps = eps_study(bench(params, ctx), baselines["eps_bezier"], params.study.eps, pool)
         result.summary["eps_study"] = eps.report()
         values = report_context(
@@ -235,8 +239,8 @@ def _log(mlflow, params: Params, summary: dict, paths: Paths) -> None:
 
 def run_metrics(summary: dict) -> dict[str, float]:
     """``table.<row>.<column>`` (Table I analogue), ``fidelity.<objective>.<stat>``,
-    ``climb.<trajectory>.<figure>`` (the climbing robot; ``fell`` as 0 or 1) and
-    ``time.seconds``."""
+    ``climb.<trajectory>.<figure>`` (the climbing robot; ``fell`` as 0 or 1),
+    ``slip.<controller>.<figure>`` (evaluate.slip_comparison) and ``time.seconds``."""
     name = tracking.metric_name
     out = {
         name("table", row_name, key): value
@@ -254,5 +258,7 @@ def run_metrics(summary: dict) -> dict[str, float]:
                 if isinstance(v, int | float) and v is not None
             }
         )
+    for controller, row in summary.get("slip", {}).items():
+        out.update({name("slip", controller, k): float(v) for k, v in row.items() if v is not None})
     out[name("time", "seconds")] = summary["seconds"]
     return tracking.finite(out)

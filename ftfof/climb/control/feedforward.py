@@ -10,7 +10,10 @@ Each control step (CONTROL_RATE_HZ, the force sensor's rate; the torques hold in
    servo limits and its QP weights;
 3. the trunk wrench: the robot's weight carried up the wall, plus a PD on the body's error from
    its plan (x) and from the wall's plane (z, pitch);
-4. the QP's forces, and their torques -J^T f as the servos' feed-forward.
+4. the QP's forces plus each foot's force trim, and their torques -J^T f as the servos'
+   feed-forward. The trim integrates what the pad's sensor misses of the QP's force: the joint
+   PD holds its targets and the pad and film give under the foot about as much as the leg, so
+   -J^T f alone got about half of f to the wall (issue 40).
 
 The CoM is the trunk's: the legs are a quarter of the mass and sit about the hips, so the
 wrench's moment leaves them out. Controllers:
@@ -28,14 +31,20 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import astuple, dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
 
-from ftfof.climb.control.forces import ForceDistributor, Stance
+from ftfof.climb.control.forces import ForceDistributor, Stance, wrench_map
 from ftfof.climb.control.replan import BodyPlan, Replanner, ReplanRequest
-from ftfof.climb.control.slip import SlipDetector, adapt_weights, estimate_pad, slip_rate
+from ftfof.climb.control.slip import (
+    SlipDetector,
+    adapt_weights,
+    estimate_adhesion,
+    estimate_pad,
+    slip_rate,
+)
 from ftfof.climb.legs import SagittalChain
 from ftfof.config import GRAVITY
 from ftfof.identify.estimate import Estimate
@@ -48,6 +57,8 @@ SLIP_HOLD = 0.01  # s above the threshold before a slip is declared
 SLIP_SPAN = 0.02  # m/s: the slip rate's scale above the threshold (slip_rate)
 BODY_BANDWIDTH_HZ = 5.0  # the trunk wrench's PD, critically damped
 ESTIMATE_SAMPLES = 15  # force samples per estimate (the Kalman estimator's window)
+FORCE_TIME_CONSTANT = 0.02  # s: the force trim's integral action on the pads' measured forces
+MAX_TRIM = 5.0  # N per force component: the trim's bound (a peeling pad must not wind it up)
 
 # a foot's last ESTIMATE_SAMPLES forces on it (f_n, f_t), or None while there are fewer
 ForceWindow = Callable[[int], tuple[Array, Array] | None]
@@ -58,7 +69,8 @@ class Pads:
     """Each foot's pad as the controller believes it."""
 
     friction: Array  # (4,) mu
-    adhesion: Array  # (4,) F_adh, N
+    adhesion: Array  # (4,) F_adh, N: the shear capacity seen as normal load
+    pull_off: Array  # (4,) the most each pad holds pulled normal to the wall, N
 
 
 @dataclass
@@ -91,7 +103,8 @@ class FeedForward:
 
     def __post_init__(self) -> None:
         self.weights = np.tile(NOMINAL_WEIGHTS, (len(self.pads.friction), 1))
-        self.believed = Pads(self.pads.friction.copy(), self.pads.adhesion.copy())
+        self.believed = Pads(*(np.array(a, dtype=float) for a in astuple(self.pads)))
+        self.trim = np.zeros((len(self.pads.friction), 2))
 
     def step(
         self,
@@ -123,26 +136,63 @@ class FeedForward:
                 plan = new_plan or plan
         out = np.zeros((len(stance), 3))
         on = np.flatnonzero(stance)
-        wrench = self._wrench(t, body, body_rate, plan)
-        result = self.distributor.solve(self._stance(on, body, theta, feet, weights), wrench)
+        wrench = self._wrench(t, body, body_rate, plan) - self._others(stance, body, feet, forces)
+        qp = self._stance(on, body, theta, feet, weights)
+        result = self.distributor.solve(qp, wrench)
         self.counts.solves += 1
         if not result.solved:
             self.counts.failed += 1
             return out, new_plan
-        out[on] = result.torques
+        force = result.forces + self._trim(on, result.forces, forces, dt)
+        out[on] = -np.einsum("nij,ni->nj", qp.jacobian, force)
         return out, new_plan
+
+    def _trim(self, on: Array, wanted: Array, forces: ForceWindow, dt: float) -> Array:
+        """The stance feet's force trims, integrating what the pads miss of the QP's forces.
+        The servos' PD holds the joints on their targets, and the pad and film give under the
+        foot about as much as the leg does, so -J^T f alone gets about half of f to the wall.
+        A foot off the stance, or without a sensor window yet, starts again from zero."""
+        trim = np.zeros_like(self.trim)
+        for k, foot in enumerate(on):
+            window = forces(int(foot))
+            if window is None:
+                continue
+            measured = np.array([window[1][-1], window[0][-1]])
+            step = (wanted[k] - measured) * dt / FORCE_TIME_CONSTANT
+            trim[foot] = np.clip(self.trim[foot] + step, -MAX_TRIM, MAX_TRIM)
+        self.trim = trim
+        return trim[on]
+
+    def _others(self, stance: Array, body: Array, feet: Array, forces: ForceWindow) -> Array:
+        """The trunk wrench of the feet off the stance, as their pads measure it: the landing
+        foot's press in its hold, which the stance must balance (0 for a foot off the wall).
+        Left out, the QP asked the stance for forces the press made statically impossible, and
+        the force trim pulled against it (FR moved to painted_wall at 7 s: FR slid 1.5 mm at
+        FL's landing at 10 s, 0.7 mm without the trim)."""
+        off = np.flatnonzero(~np.asarray(stance, dtype=bool))
+        measured = [forces(int(foot)) for foot in off]
+        have = [k for k, window in enumerate(measured) if window is not None]
+        if not have:
+            return np.zeros(3)
+        f = np.array([[measured[k][1][-1], measured[k][0][-1]] for k in have])
+        return wrench_map(self._offsets(off[have], body, feet)) @ f.ravel()
+
+    def _offsets(self, which: Array, body: Array, feet: Array) -> Array:
+        """(n, 2) the feet ``which``'s contact points minus the trunk's CoM, wall frame."""
+        height = np.full(len(which), -self.com_height - body[1])
+        return np.stack([feet[which] - body[0], height], axis=1)
 
     def _stance(self, on: Array, body: Array, theta: Array, feet: Array, weights: Array) -> Stance:
         c, s = math.cos(body[2]), math.sin(body[2])
         turn = np.array([[c, -s], [s, c]])  # trunk frame -> wall frame
-        offset = np.stack([feet[on] - body[0], np.full(len(on), -self.com_height - body[1])], 1)
         return Stance(
-            offset=offset,
+            offset=self._offsets(on, body, feet),
             jacobian=turn @ self.chain.leg.jacobian(theta[on]),
             friction=self.believed.friction[on],
             adhesion=self.believed.adhesion[on],
             torque_limit=np.tile(self.chain.torque_limits, (len(on), 1)),
             weight=weights[on],
+            pull_off=self.believed.pull_off[on],
         )
 
     def _wrench(self, t: float, body: Array, body_rate: Array, plan: BodyPlan) -> Array:
@@ -169,15 +219,16 @@ class FeedForward:
         plan: BodyPlan,
     ) -> BodyPlan | None:
         """Estimate the slipping foot's pad from its last forces, believe it, and ask for a
-        plan (an estimate off the physical range, mu <= 0 or not finite, is not believed)."""
+        plan (an estimate that stays off the physical range is not believed)."""
         window = forces(foot)
         if window is None:
             return None
-        prior = Estimate(float(self.believed.friction[foot]), float(self.believed.adhesion[foot]))
-        got = estimate_pad(*window, prior=prior)
-        if not (math.isfinite(got.mu) and math.isfinite(got.adhesion) and got.mu > 0):
+        got = self._estimate(foot, *window)
+        if got is None:
             return None
-        self.believed.friction[foot], self.believed.adhesion[foot] = got.mu, got.adhesion
+        pads = self.believed
+        pads.pull_off[foot] *= got.adhesion / pads.adhesion[foot]  # both s x strength x area
+        pads.friction[foot], pads.adhesion[foot] = got.mu, got.adhesion
         self.counts.estimates += 1
         request = ReplanRequest(
             t,
@@ -193,3 +244,15 @@ class FeedForward:
         new = self.replanner(request)
         self.counts.replans += new is not None
         return new
+
+    def _estimate(self, foot: int, fn: Array, ft: Array) -> Estimate | None:
+        """The pad's (mu, F_adh) from a window of its forces. Where the two-parameter fit gives
+        mu <= 0, the pad is losing its bonds as it slides (a peel under shear, not a slide on a
+        fixed cone); its mu stays believed and only its F_adh, what it still holds, is fitted.
+        None if even that is off the range (F_adh not finite, or <= 0)."""
+        mu = float(self.believed.friction[foot])
+        got = estimate_pad(fn, ft, prior=Estimate(mu, float(self.believed.adhesion[foot])))
+        if math.isfinite(got.mu) and math.isfinite(got.adhesion) and got.mu > 0:
+            return got
+        adhesion = estimate_adhesion(fn, ft, mu)
+        return Estimate(mu, adhesion) if math.isfinite(adhesion) and adhesion > 0 else None

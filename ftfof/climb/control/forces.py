@@ -19,13 +19,19 @@ feet fixed (the loop's joint PD tracks the motion, §5 handles slip), so what is
 trunk's Newton-Euler equation A f = w, kept as the soft term ||A f - w||^2_{W_w} (the paper's
 W_qddot lets the floating base deviate), the reaction force term with the paper's W_rf as per-foot
 diagonal weights, the contact wrench cones and the torque limits. §2.2.1 splits the reaction
-F_r = F_c + F_m into contact and magnetic force and weighs F_c; our pad's adhesion plays F_m, so
-the weight acts on c_i = f_i + (0, F_adh,i), the force measured from the apex of the adhesion-
-shifted pyramid. Lowering a foot's normal weight then hands it a larger share of the pressing
-(c_n), which is what §5's weight adaptation relies on.
+F_r = F_c + F_m into contact and magnetic force and weighs F_c. A magnet's F_m is a force that is
+always there; a pad's adhesion is a capacity, so the weight acts on f_i itself. Weighed from the
+pyramid's apex, f_i + (0, F_adh,i), the cost pulled every foot toward f_n = -F_adh: on a wall the
+feet's normal forces sum to about zero, so while the weights are equal that costs nothing, but
+once §5 lowered a slipping fore foot's normal weight the QP pressed it +7 N and pulled its
+partner to its pull-off (MST-M3F, F_adh 34.7 N: FL -10.4 N; with the weights on f_i, -0.5 N to
++0.2 N, issue 40).
 
-Per stance foot, with its own mu and F_adh: |f_t| <= mu (f_n + F_adh), f_n >= -F_adh, and for
-each joint |J_i^T f_i| <= tau_max (a joint without a servo limit has tau_max = inf).
+Per stance foot, with its own mu, F_adh and pull-off P: |f_t| <= mu (f_n + F_adh), f_n >= -P, and
+for each joint |J_i^T f_i| <= tau_max (a joint without a servo limit has tau_max = inf). F_adh is
+the pad's shear capacity seen as extra normal load (s tau_max A / mu, about 35 N on acrylic); the
+pad's normal pull is another capacity, its normal strength s sigma A (about 10 N), so the pyramid
+is cut at P rather than at its apex.
 
 The solver (proxsuite's dense ProxQP) sees the wrench error as three slack variables s with the
 equality A f - s = w, and minimises s^T W_w s + sum_i c_i^T W_f,i c_i: the same QP, but with a
@@ -67,6 +73,7 @@ class Stance:
     adhesion: Array  # (n,) F_adh, N (negative: a pad that must be pressed to hold)
     torque_limit: Array  # (n, 3) N m; inf for a joint without a servo limit
     weight: Array  # (n, 2) W_f's diagonal: tangential, normal
+    pull_off: Array  # (n,) the most the pad may pull on its foot, N (f_n >= -pull_off)
 
     def __post_init__(self) -> None:
         n = len(self.offset)
@@ -79,6 +86,7 @@ class Stance:
             "adhesion": (n,),
             "torque_limit": (n, 3),
             "weight": (n, 2),
+            "pull_off": (n,),
         }
         for name, shape in shapes.items():
             value = np.asarray(getattr(self, name), dtype=float)
@@ -128,15 +136,15 @@ def wrench_map(offset: Array) -> Array:
     return A
 
 
-def cone_rows(friction: Array, adhesion: Array) -> tuple[Array, Array]:
+def cone_rows(friction: Array, adhesion: Array, pull_off: Array) -> tuple[Array, Array]:
     """Rows C f <= u of each foot's adhesion-shifted pyramid: friction up, down, pull-off."""
     n = len(friction)
     C = np.zeros((3 * n, 2 * n))
     u = np.zeros(3 * n)
-    for i, (mu, grip) in enumerate(zip(friction, adhesion, strict=True)):
+    for i, (mu, grip, pull) in enumerate(zip(friction, adhesion, pull_off, strict=True)):
         rows, cols = slice(3 * i, 3 * i + 3), slice(2 * i, 2 * i + 2)
         C[rows, cols] = [[1.0, -mu], [-1.0, -mu], [0.0, -1.0]]
-        u[rows] = [mu * grip, mu * grip, grip]
+        u[rows] = [mu * grip, mu * grip, pull]
     return C, u
 
 
@@ -151,7 +159,7 @@ def torque_rows(jacobian: Array) -> Array:
 
 def constraints(stance: Stance) -> tuple[Array, Array, Array]:
     """C, l, u with l <= C x <= u over x = (f, s): the pyramids, then the torque limits."""
-    cone, upper = cone_rows(stance.friction, stance.adhesion)
+    cone, upper = cone_rows(stance.friction, stance.adhesion, stance.pull_off)
     limit = stance.torque_limit.ravel()
     C = np.vstack([cone, torque_rows(stance.jacobian)])
     C = np.hstack([C, np.zeros((len(C), 3))])  # the slack is free
@@ -160,13 +168,9 @@ def constraints(stance: Stance) -> tuple[Array, Array, Array]:
 
 
 def cost(stance: Stance, wrench_weight: Array) -> tuple[Array, Array]:
-    """H, g of 1/2 x^T H x + g^T x = s^T W_w s + sum_i c_i^T W_f,i c_i over x = (f, s), with c_i
-    the force from the apex of foot i's pyramid, f_i + (0, F_adh,i)."""
-    D = stance.weight.ravel()
-    apex = np.stack([np.zeros(stance.size), stance.adhesion], axis=1).ravel()
-    H = np.diag(2.0 * np.concatenate([D, wrench_weight]))
-    g = np.concatenate([2.0 * D * apex, np.zeros(3)])
-    return H, g
+    """H, g of 1/2 x^T H x + g^T x = s^T W_w s + sum_i f_i^T W_f,i f_i over x = (f, s)."""
+    H = np.diag(2.0 * np.concatenate([stance.weight.ravel(), wrench_weight]))
+    return H, np.zeros(len(H))
 
 
 def tracking(stance: Stance) -> Array:

@@ -20,7 +20,10 @@ Our reading of the paper, whose equations are images:
   minimises the weighted forces, so to move load toward the normal the slipping foot's
   tangential weight goes up and its normal weight down, by one factor alpha = max_factor**rho:
   W_t <- alpha W_t, W_n <- W_n / alpha. The paper's nominal weights put the normal one far below
-  the tangential; the update keeps the other feet's weights.
+  the tangential; the update keeps the other feet's weights. On a wall the feet's normal forces
+  sum to about zero, so a freer normal force lets the slipping foot take more of the trunk's
+  moment, whatever its sign (a fore foot pulls more, a hind foot presses more), while its shear
+  goes to the others; it cannot press a fore foot without pulling its partner.
 """
 
 from __future__ import annotations
@@ -108,3 +111,15 @@ def estimate_pad(
     if prior is None:
         raise ValueError("the Kalman estimator starts from a prior: the pad's assumed mu, F_adh")
     return kalman(fn, ft, prior).final
+
+
+def estimate_adhesion(fn: Array, ft: Array, mu: float) -> float:
+    """F_adh of a sliding pad whose mu is taken as known: each sample sits on the cone's edge,
+    |f_t| = mu (f_n + F_adh), so F_adh = mean(|f_t| / mu - f_n). This is what is left to estimate
+    when the two-parameter fit is off the physical range: a pad that loses its bonds while it
+    slides holds ever less shear as its pull eases, f_t and f_n fall together, and the fit's
+    slope, mu, comes out negative (FR's slide before it lets go, issue 40)."""
+    if mu <= 0:
+        raise ValueError(f"the adhesion estimate needs a positive mu, got {mu}")
+    fn = np.asarray(fn, dtype=float)
+    return float(np.mean(np.abs(np.asarray(ft, dtype=float)) / mu - fn))

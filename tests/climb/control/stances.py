@@ -10,6 +10,7 @@ from ftfof.climb.legs import sagittal_chain
 MASS = 0.8  # kg: the M3F climber's estimate (params.yaml, robots.mst_m3f.climber)
 GRAVITY = 9.81
 FRICTION, ADHESION = 0.6, 8.0
+PULL_OFF = 8.0  # N: as F_adh, the pyramid cut at its apex
 WEIGHTS = (1.0, 1e-3)  # tangential, normal: the normal weight far below (climbing_slip §5.2)
 STROKE = np.array([0.02, 0.08, 0.05, 0.11])  # each foot along its stance stroke, m (FL FR HL HR)
 
@@ -32,6 +33,7 @@ def stance_of(m3f, stroke: np.ndarray = STROKE) -> Stance:
         np.full(n, ADHESION),
         np.tile(chain.torque_limits, (n, 1)),
         np.tile(WEIGHTS, (n, 1)),
+        np.full(n, PULL_OFF),
     )
 
 

@@ -5,9 +5,19 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from ftfof.climb.control.feedforward import CONTROL_RATE_HZ, SLIP_HOLD, FeedForward, Pads
+from ftfof.climb.control.feedforward import (
+    CONTROL_RATE_HZ,
+    FORCE_TIME_CONSTANT,
+    MAX_TRIM,
+    SLIP_HOLD,
+    FeedForward,
+    Pads,
+)
 from ftfof.climb.legs import sagittal_chain
-from tests.climb.control.stances import ADHESION, FRICTION, MASS, STROKE
+from ftfof.climb.simulate import pull_off_of
+from ftfof.sim.bonds import BondLaw
+from ftfof.sim.slip import adhesion_truth
+from tests.climb.control.stances import ADHESION, FRICTION, MASS, PULL_OFF, STROKE
 
 SLIDING = np.array([0.0, 0.05, 0.0, 0.0])  # FR slides up its patch at 50 mm/s
 
@@ -15,7 +25,7 @@ SLIDING = np.array([0.0, 0.05, 0.0, 0.0])  # FR slides up its patch at 50 mm/s
 def _controller(m3f, mode, replanner=lambda request: None):
     robot = m3f.robot
     chain = sagittal_chain(robot.leg, robot.climber.torque_limits, robot.platform.foot.ankle_height)
-    pads = Pads(np.full(4, FRICTION), np.full(4, ADHESION))
+    pads = Pads(np.full(4, FRICTION), np.full(4, ADHESION), np.full(4, PULL_OFF))
     return FeedForward(mode, chain, MASS, 1e-3, float(chain.hip[1]), pads, replanner), chain
 
 
@@ -28,7 +38,7 @@ def _window(leg):
     return fn, 0.3 * (fn + 5.0)  # a pad of mu 0.3, F_adh 5 N
 
 
-def _run(controller, chain, velocity, steps):
+def _run(controller, chain, velocity, steps, window=_window):
     theta = chain.leg.inverse(np.stack([STROKE, np.zeros(4)], axis=1))
     spacing = 0.2
     feet = STROKE + np.array([spacing, spacing, -spacing, -spacing]) / 2 - chain.hip[0]
@@ -43,7 +53,7 @@ def _run(controller, chain, velocity, steps):
             feet,
             np.ones(4, dtype=bool),
             velocity,
-            _window,
+            window,
         )
     return out
 
@@ -77,3 +87,80 @@ def test_weights_alone_neither_estimates_nor_replans(m3f):
     steps = round(SLIP_HOLD * CONTROL_RATE_HZ) + 2
     _run(controller, chain, SLIDING, steps)
     assert controller.counts.slips == 1 and controller.counts.estimates == 0
+
+
+def test_replan_believes_what_a_peeling_pad_still_holds_where_its_mu_fit_is_negative(m3f):
+    """f_t and f_n falling together (a pad losing its bonds as it slides) fit mu < 0: the pad
+    keeps its believed mu and gets the adhesion it showed, so the QP unloads it."""
+
+    def peel(leg):
+        fn = np.linspace(-3.8, -0.5, 15)
+        return fn, FRICTION * (fn + np.linspace(10.0, 2.0, 15))
+
+    seen = []
+    controller, chain = _controller(m3f, "replan", lambda request: seen.append(request))
+    _run(controller, chain, SLIDING, round(SLIP_HOLD * CONTROL_RATE_HZ) + 2, peel)
+    assert controller.counts.estimates == 1 and len(seen) == 1
+    assert seen[0].friction[1] == FRICTION
+    assert seen[0].adhesion[1] == pytest.approx(6.0, rel=1e-9)
+    assert seen[0].adhesion[0] == ADHESION
+    # the pull-off and F_adh are one bond strength seen two ways: they scale together
+    assert controller.believed.pull_off[1] == pytest.approx(PULL_OFF * 6.0 / ADHESION)
+    assert controller.believed.pull_off[0] == PULL_OFF
+
+
+def _unloaded(leg):
+    return np.zeros(15), np.zeros(15)  # the pads report no force: the servos miss all of it
+
+
+def test_the_force_trim_integrates_what_the_pads_miss_of_the_qp_forces(m3f):
+    controller, chain = _controller(m3f, "none")
+    _run(controller, chain, np.zeros(4), 1, _unloaded)
+    first = controller.trim.copy()  # the QP's forces times dt / FORCE_TIME_CONSTANT
+    assert np.abs(first).max() > 0
+    _run(controller, chain, np.zeros(4), 1, _unloaded)
+    assert controller.trim == pytest.approx(2 * first, rel=1e-6)  # still: the same QP each step
+    steps = round(4 * FORCE_TIME_CONSTANT * CONTROL_RATE_HZ)
+    _run(controller, chain, np.zeros(4), steps, _unloaded)
+    trim = controller.trim
+    assert np.abs(trim).max() == pytest.approx(MAX_TRIM)  # bounded, not wound up
+    assert np.all(np.sign(trim) == np.sign(first))
+
+
+def test_the_force_trim_stays_zero_until_the_pads_have_a_sensor_window(m3f):
+    controller, chain = _controller(m3f, "none")
+    _run(controller, chain, np.zeros(4), 3, lambda leg: None)
+    assert not controller.trim.any()
+
+
+@pytest.mark.parametrize("name", ["acrylic", "glass", "painted_wall"])
+def test_a_pads_pull_off_is_its_normal_strength_mu_over_k_of_its_f_adh(params, name):
+    surface = params.surfaces[name]
+    law = BondLaw.from_surface(surface, 1e-3)
+    area, preload = 1e-3, 5.0
+    pull_off = pull_off_of(law, surface, preload, area)
+    ratio = surface.friction / surface.shear_capacity_ratio
+    assert pull_off == pytest.approx(ratio * adhesion_truth(law, preload, area), rel=1e-12)
+
+
+def test_the_stance_balances_what_a_foot_off_it_measures_the_landing_press(m3f):
+    """FL in its landing hold presses 5 N (its pad's sensor): the stance feet's forces take it,
+    their normal forces summing to -5 N, and the trunk still gets the planned wrench."""
+
+    def pressing(leg):
+        return (np.full(15, 5.0), np.zeros(15)) if leg == 0 else None
+
+    controller, chain = _controller(m3f, "none")
+    theta = chain.leg.inverse(np.stack([STROKE, np.zeros(4)], axis=1))
+    feet = STROKE + np.array([0.1, 0.1, -0.1, -0.1]) - chain.hip[0]
+    stance = np.array([False, True, True, True])
+    sums = []
+    for window in (lambda leg: None, pressing):
+        torques, _ = controller.step(
+            0.0, np.zeros(3), np.zeros(3), _plan, theta, feet, stance, np.zeros(4), window
+        )
+        pairs = zip(chain.leg.jacobian(theta[1:]), torques[1:], strict=True)
+        forces = [np.linalg.lstsq(-J.T, tau, rcond=None)[0] for J, tau in pairs]
+        sums.append(sum(f[1] for f in forces))
+    assert sums[0] == pytest.approx(0.0, abs=1e-3)
+    assert sums[1] == pytest.approx(-5.0, abs=1e-3)

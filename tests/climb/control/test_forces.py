@@ -24,7 +24,7 @@ def assert_inside(stance: Stance, forces: np.ndarray) -> None:
     """Every pyramid and torque limit holds."""
     ft, fn = forces[:, 0], forces[:, 1]
     assert np.all(np.abs(ft) <= stance.friction * (fn + stance.adhesion) + TOL)
-    assert np.all(fn >= -stance.adhesion - TOL)
+    assert np.all(fn >= -stance.pull_off - TOL)
     torques = np.einsum("nij,ni->nj", stance.jacobian, forces)
     assert np.all(np.abs(torques) <= stance.torque_limit + TOL)
 
@@ -51,6 +51,22 @@ def test_a_feasible_wrench_is_tracked_inside_every_cone(m3f):
         assert out.torques == pytest.approx(expected)
     # the moment of the weight (the CoM off the wall) is held by pulling fore and pressing hind
     assert out.forces[:2, 1].max() < 0 < out.forces[2:, 1].min()
+
+
+def test_a_pad_that_holds_little_pull_hands_its_pull_to_the_other_fore_foot(m3f):
+    """The pull-off cuts FL's pyramid below its apex: FL pulls at most 0.2 N, FR takes the rest
+    of the fore feet's pull, and the wrench is still met."""
+    stance = stance_of(m3f)
+    free = ForceDistributor().solve(stance, static_wrench())
+    assert free.forces[0, 1] < -0.5
+    pull_off = np.full(4, stance.adhesion[0])
+    pull_off[0] = 0.2
+    weak = replace(stance, pull_off=pull_off)
+    out = ForceDistributor().solve(weak, static_wrench())
+    assert out.solved and out.forces[0, 1] == pytest.approx(-0.2, abs=1e-6)
+    assert out.forces[1, 1] < free.forces[1, 1] - 0.1
+    assert np.abs(out.residual).max() < 1e-4 * static_wrench()[0]
+    assert_inside(weak, out.forces)
 
 
 def test_a_poor_pad_hands_its_load_to_the_others(m3f):

@@ -8,7 +8,13 @@ import numpy as np
 import pytest
 
 from ftfof.climb.control.forces import ForceDistributor
-from ftfof.climb.control.slip import SlipDetector, adapt_weights, estimate_pad, slip_rate
+from ftfof.climb.control.slip import (
+    SlipDetector,
+    adapt_weights,
+    estimate_adhesion,
+    estimate_pad,
+    slip_rate,
+)
 from ftfof.identify.estimate import Estimate
 from tests.climb.control.stances import stance_of, static_wrench
 
@@ -77,7 +83,10 @@ def test_the_adapted_qp_moves_a_slipping_foot_toward_its_normal(m3f, foot):
 
     assert ratio(after) < 0.5 * ratio(before)
     assert abs(after.forces[foot, 0]) < abs(before.forces[foot, 0])
-    assert after.forces[foot, 1] > before.forces[foot, 1]  # it presses more (or pulls less)
+    # its normal force is left free, and the others are pulled no harder than any foot was:
+    # weighed from the pyramid's apex, they were pulled toward -F_adh (issue 40)
+    others = np.delete(after.forces[:, 1], foot)
+    assert others.min() >= before.forces[:, 1].min() - 1e-6
 
 
 MU, ADHESION = 0.6, 8.0
@@ -108,3 +117,25 @@ def test_the_estimate_refuses_an_unknown_method_or_a_kalman_without_prior():
         estimate_pad(fn, ft, "kalman")
     with pytest.raises(ValueError, match="unknown estimator"):
         estimate_pad(fn, ft, "median")  # type: ignore[arg-type]
+
+
+def _peel_window() -> tuple[np.ndarray, np.ndarray]:
+    """FR's last 15 ms before it let go in issue 40's scenario, as a law: a pad losing its bonds
+    as it slides, its shear capacity falling with its pull, so f_t and f_n fall together."""
+    fn = np.linspace(-3.8, -0.5, 15)
+    adhesion = np.linspace(10.0, 2.0, 15)  # what it still holds, N
+    return fn, MU * (fn + adhesion)
+
+
+def test_a_pad_that_loses_its_bonds_as_it_slides_fits_a_negative_mu():
+    fn, ft = _peel_window()
+    assert estimate_pad(fn, ft, "least_squares").mu < 0
+
+
+def test_the_adhesion_estimate_with_mu_known_is_what_the_peeling_pad_still_holds():
+    fn, ft = _peel_window()
+    assert estimate_adhesion(fn, -ft, MU) == pytest.approx(6.0, rel=1e-9)  # the window's mean
+    fn, ft = _slip_window()
+    assert estimate_adhesion(fn, ft, MU) == pytest.approx(ADHESION, rel=0.05)
+    with pytest.raises(ValueError, match="positive mu"):
+        estimate_adhesion(fn, ft, 0.0)

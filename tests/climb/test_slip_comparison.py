@@ -1,0 +1,42 @@
+"""evaluate.slip_comparison: the scenario's climb under each controller, into the metrics."""
+
+from __future__ import annotations
+
+import pytest
+
+import ftfof.pipeline.climb as climbs
+from ftfof.climb.surface import SurfaceSwitch
+from ftfof.config import LEG_NAMES
+from ftfof.errors import ParamsError
+from ftfof.pipeline.bench import baseline_trajectories, context_of
+from ftfof.pipeline.evaluate import run_metrics
+from ftfof.pipeline.params_file import parse_params
+
+
+def test_the_comparison_climbs_the_scenario_once_per_controller(params, tmp_path, monkeypatch):
+    seen = []
+
+    def compare(params_, spec, out_dir, title):
+        seen.append(spec)
+        row = {"slip_distance": 2e-3, "max_slip_velocity": 7e-3, "fell": False, "fall": ""}
+        return {c: {**row, "steps_done": 8} for c in climbs.CONTROLLERS}
+
+    monkeypatch.setattr(climbs, "compare_controllers", compare)
+    ctx = context_of(params)
+    scenario = params.evaluate.slip_scenario
+    trajectory = baseline_trajectories(params, ctx)[scenario.trajectory]
+    table = climbs.slip_comparison(params, ctx, trajectory, tmp_path)
+    (spec,) = seen
+    switch = SurfaceSwitch(LEG_NAMES.index("FL"), 4.0, params.surfaces["painted_wall"])
+    assert spec.switch == switch and spec.name == "slip_eps_bezier"
+    assert set(table) == set(climbs.CONTROLLERS)
+    assert table["both"] == {"slip_distance": 2e-3, "max_slip_velocity": 7e-3, "fell": False}
+    metrics = run_metrics({"table": {}, "fidelity": {}, "slip": table, "seconds": 1.0})
+    assert metrics["slip.both.slip_distance"] == 2e-3 and metrics["slip.none.fell"] == 0.0
+
+
+def test_a_scenario_on_an_unknown_surface_is_one_line_naming_its_key(params_dict):
+    params_dict["evaluate"]["slip_scenario"] = {"foot": "FL", "time": 4.0, "surface": "ice"}
+    with pytest.raises(ParamsError) as err:
+        parse_params(params_dict)
+    assert "evaluate.slip_scenario.surface" in str(err.value) and "\n" not in str(err.value)

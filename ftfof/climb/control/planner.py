@@ -6,7 +6,8 @@ foot's force f = (f_t, f_n) is the wall's force on the foot: f_t along +x, f_n a
 f_n > 0 presses the pad into the wall and f_n < 0 pulls on it. A pad of friction ``mu`` and
 adhesion ``F_adh`` holds while
 
-    f_n >= -F_adh                  it does not pull off the wall,
+    f_n >= -F_pull                 it does not pull off the wall (F_pull: F_adh unless the
+                                   pad's pull-off is given, Foothold.pull_off),
     |f_t| <= mu (f_n + F_adh)      it does not slide (the pyramid is two lines in 2-D),
 
 that is while its adhesion-shifted force c = (f_t, f_n + F_adh) lies in the plain cone: the
@@ -67,13 +68,21 @@ class Foothold:
 
     position: Array  # (2,) the pad's contact point (x, z), m
     mu: float  # friction coefficient
-    adhesion: float  # F_adh, N: the most the pad can be pulled off with
+    adhesion: float  # F_adh, N: the cone's shift (the shear capacity seen as normal load)
     weight: float = 1.0  # scales the foot's W_f: a heavier weight gives it less of the load
+    pull_off: float | None = None  # N: the most the pad holds pulled off (None: F_adh)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "position", np.asarray(self.position, float))
         if self.mu <= 0 or self.adhesion < 0 or self.weight <= 0:
             raise ValueError(f"a foothold needs mu > 0, F_adh >= 0, weight > 0: {self}")
+        if self.pull_off is not None and self.pull_off < 0:
+            raise ValueError(f"a foothold needs pull-off >= 0: {self}")
+
+    @property
+    def pull(self) -> float:
+        """The most the pad holds pulled off the wall, N: its pull-off, or F_adh without one."""
+        return self.adhesion if self.pull_off is None else float(self.pull_off)
 
 
 @dataclass(frozen=True)
@@ -188,6 +197,7 @@ class _Stance:
     offset: Array  # (3,) A @ shift
     cone: Array  # (3k, 3)
     feet: NDArray[np.int64]  # (3k,) the foot of each cone row
+    margin: Array  # (3k,) added to each cone value: pull-off - F_adh on the pull rows, else 0
 
 
 @dataclass(frozen=True)
@@ -290,6 +300,7 @@ def _stance(step: Step, phase: int) -> _Stance:
     w_inv = np.column_stack([mu * mu, np.ones(k)]).ravel() / np.repeat(weight, 2)
     AW = A * w_inv
     inverse = np.linalg.solve(AW @ A.T, AW).T  # (2k, 3): W^-1 A^T (A W^-1 A^T)^-1
+    pull = np.array([footholds[i].pull for i in on])
     shift = np.column_stack([np.zeros(k), adhesion]).ravel()
     tangential, normal = inverse[0::2], inverse[1::2]
     cone = np.concatenate(
@@ -300,7 +311,8 @@ def _stance(step: Step, phase: int) -> _Stance:
     full_map[rows] = inverse
     full_shift = np.zeros(2 * n)
     full_shift[rows] = shift
-    return _Stance(full_map, full_shift, A @ shift, cone, np.tile(on, 3))
+    margin = np.concatenate([pull - adhesion, np.zeros(2 * k)])
+    return _Stance(full_map, full_shift, A @ shift, cone, np.tile(on, 3), margin)
 
 
 def _interval(step: Step, direction: Array, phases: tuple[_Phase, ...]) -> Interval:
@@ -320,6 +332,7 @@ def _interval(step: Step, direction: Array, phases: tuple[_Phase, ...]) -> Inter
         r.append(
             SLACK
             + cone @ (w_rest + ph.stance.offset)
+            + ph.stance.margin
             + np.outer(a0, per_acc)
             + np.outer(s0, per_arm)
         )

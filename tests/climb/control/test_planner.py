@@ -231,3 +231,30 @@ def test_random_pads_planned_and_replanned_hold_wherever_sampled(step_of):
         replanned += 1
         assert np.nanmin(cone_values(replan, times(replan))) >= -TOL
     assert planned > 40 and replanned > 30
+
+
+def test_a_pull_off_below_f_adh_bounds_the_pulls_and_leaves_the_cones_as_they_were(step_of):
+    """Foothold.pull_off: the pad's pull bound, f_n >= -pull-off, apart from the cone's shift
+    F_adh (the controller's pads: pull-off 10.4 N against F_adh 34.7 N on acrylic). HL's step
+    pulls on FR most (1.1 N, the trunk's moment): a pull-off a little above that narrows the
+    betas, one at half of it leaves none (the post-swing's rest pulls as much)."""
+    base = step_of()
+    f = plan_step(base).forces(times(plan_step(base)))
+    pull = -float(np.nanmin(f[..., 1]))
+    FR = 1
+    assert pull > 0.5 and -float(np.nanmin(f[:, FR, 1])) == pull
+
+    def with_pull_off(limit: float) -> Step:
+        feet = list(base.feet)
+        feet[FR] = dataclasses.replace(feet[FR], pull_off=limit)
+        return dataclasses.replace(base, feet=tuple(feet))
+
+    tight = with_pull_off(1.2 * pull)
+    assert 0 < feasible_interval(tight).width < feasible_interval(base).width
+    plan = plan_step(tight)
+    g = plan.forces(times(plan))
+    assert np.nanmin(g[:, FR, 1]) >= -1.2 * pull - TOL
+    assert np.nanmin(cone_values(plan, times(plan))) >= -TOL
+    with pytest.raises(InfeasibleStepError, match="FR pulls off the wall"):
+        plan_step(with_pull_off(pull / 2))
+    assert with_pull_off(base.feet[FR].adhesion).feet[FR].pull == base.feet[FR].pull

@@ -247,12 +247,13 @@ class FeedForward:
 
     def _estimate(self, foot: int, fn: Array, ft: Array) -> Estimate | None:
         """The pad's (mu, F_adh) from a window of its forces. Where the two-parameter fit gives
-        mu <= 0, the pad is losing its bonds as it slides (a peel under shear, not a slide on a
-        fixed cone); its mu stays believed and only its F_adh, what it still holds, is fitted.
+        mu <= 0 or F_adh <= 0, the pad is losing its bonds as it slides (a peel under shear, not a
+        slide on a fixed cone); its mu stays believed and only its F_adh, what it still holds, is
+        fitted.
         None if even that is off the range (F_adh not finite, or <= 0)."""
         mu = float(self.believed.friction[foot])
         got = estimate_pad(fn, ft, prior=Estimate(mu, float(self.believed.adhesion[foot])))
-        if math.isfinite(got.mu) and math.isfinite(got.adhesion) and got.mu > 0:
+        if math.isfinite(got.mu) and math.isfinite(got.adhesion) and got.mu > 0 < got.adhesion:
             return got
         adhesion = estimate_adhesion(fn, ft, mu)
         return Estimate(mu, adhesion) if math.isfinite(adhesion) and adhesion > 0 else None

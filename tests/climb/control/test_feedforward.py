@@ -164,3 +164,19 @@ def test_the_stance_balances_what_a_foot_off_it_measures_the_landing_press(m3f):
         sums.append(sum(f[1] for f in forces))
     assert sums[0] == pytest.approx(0.0, abs=1e-3)
     assert sums[1] == pytest.approx(-5.0, abs=1e-3)
+
+
+def test_replan_believes_no_pad_whose_fit_holds_less_than_nothing(m3f):
+    """A slide pressed on a cone whose apex lies past zero (the fit: mu 0.4, F_adh -5 N) is off
+    the physical range: its F_adh fitted at the believed mu is negative too, so the pad's
+    belief stays, and no re-planner is asked (it got a negative F_adh in a climb before)."""
+
+    def pressed(leg):
+        fn = np.linspace(6.0, 10.0, 15)
+        return fn, 0.4 * (fn - 5.0)
+
+    seen = []
+    controller, chain = _controller(m3f, "replan", lambda request: seen.append(request))
+    _run(controller, chain, SLIDING, round(SLIP_HOLD * CONTROL_RATE_HZ) + 2, pressed)
+    assert controller.counts.slips == 1 and controller.counts.estimates == 0 and not seen
+    assert np.all(controller.believed.adhesion == ADHESION)

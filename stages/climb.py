@@ -47,11 +47,12 @@ def command(
     """Climb the wall with the whole robot (climb.steps swings, one leg at a time), the swinging
     foot on the given trajectory; writes its channels, IMU, per-step metrics and traces."""
     from ftfof.errors import ParamsError
-    from ftfof.pipeline.bench import check_points, context_of, parse_points
+    from ftfof.pipeline.bench import context_of
     from ftfof.pipeline.climb import CONTROLLERS, climb_spec, run_climb, write_climb
     from ftfof.pipeline.climb import compare_controllers as compare
     from ftfof.pipeline.export import Source
     from ftfof.pipeline.params_file import load_params
+    from ftfof.robot import check_points, parse_points
 
     if sum((baseline is not None, points is not None, row is not None, optimum)) != 1:
         raise ParamsError("climb", "give exactly one of --baseline, --points, --row, --optimum")

@@ -146,12 +146,16 @@ class ClimbLoop:
             return True
         q = self.data.GetODE2Coordinates(copy=False)
         qd = self.data.GetODE2Coordinates_t(copy=False)
-        gait = self.r.gait
-        _, tau, swing = gait.phase(t)
-        landing = swing if tau < gait.swing + gait.hold else -1  # its pad bonds in the hold
+        _, tau, swing = self.r.gait.phase(t)
+        landing = self._landing(tau, swing)
         self._record(t, q, qd, swing, self._stance(landing))
         self.next_record += self.every
         return not self._fell(t, q, self.held, landing)
+
+    def _landing(self, tau: float, swing: int) -> int:
+        """The leg in its swing or landing hold (its pad bonds in the hold), -1 if none."""
+        gait = self.r.gait
+        return swing if tau < gait.swing + gait.hold else -1
 
     def _stance(self, landing: int) -> Array:
         """The feet holding the robot: bonded, and not the leg in its swing or landing hold."""
@@ -163,9 +167,8 @@ class ClimbLoop:
     def _control(self, t: float, q: Array, qd: Array, tau: float, swing: int) -> None:
         """One control step: the stance feet's forces, as the servos' feed-forward torques."""
         assert self.control is not None
-        gait, b = self.r.gait, self.tree
-        landing = swing if swing >= 0 and tau < gait.swing + gait.hold else -1
-        stance = self._stance(landing)
+        b = self.tree
+        stance = self._stance(self._landing(tau, swing))
         torques, plan = self.control.step(
             t,
             q[b : b + BASE].copy(),

@@ -273,6 +273,11 @@ class Robot(Strict):
     # the whole robot on the wall, for `ftfof climb` and evaluate's climbs; None: it cannot climb
     climber: Climber | None = None
 
+    @property
+    def pad_area(self) -> float:
+        """The pad's area on the wall, m^2: its length times the film's width."""
+        return self.foot.pad_length * self.platform.film.width
+
     @model_validator(mode="after")
     def _film_survives_its_fc(self) -> Robot:
         film, fc = self.platform.film, self.foot.film_min_bend_radius
@@ -321,7 +326,7 @@ def min_shear_capacity_ratio(robot: Robot, surface: Surface) -> float:
     k sigma A phi(a) >= SHEAR_SAFETY_FACTOR m g / STANCE_FEET, with A the pad area and
     phi(a) = 1 - exp(-a / (A p*)) the preload factor of the bond law.
     """
-    area = robot.platform.film.width * robot.foot.pad_length
+    area = robot.pad_area
     engaged = 1.0 - np.exp(-robot.pre_pressure / (area * surface.preload_pressure))
     weight = robot.platform.body.mass * GRAVITY
     return float(SHEAR_SAFETY_FACTOR * weight / STANCE_FEET / (surface.strength * area * engaged))

@@ -1,13 +1,12 @@
 """What a run builds from its params, one way for every command: the robot context, the simulated
-bench and the baselines on it. (``check_points`` and ``parse_points`` are :mod:`ftfof.robot`'s,
-named here too for the commands that import them from here.)"""
+bench and the baselines on it."""
 
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 
 from ftfof.config import Params, Surface
-from ftfof.robot import RobotContext, check_points, parse_points, robot_context
+from ftfof.robot import RobotContext, robot_context
 from ftfof.seeds import seed_for
 from ftfof.sim.spec import Bench, SampleSpec
 from ftfof.trajectory.baselines import common_trajectories
@@ -58,7 +57,5 @@ __all__ = [
     "baseline_specs",
     "baseline_trajectories",
     "bench",
-    "check_points",
     "context_of",
-    "parse_points",
 ]

@@ -10,7 +10,7 @@ import signal
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any
+from typing import Any, get_args
 
 import numpy as np
 import pyarrow as pa
@@ -31,7 +31,7 @@ from ftfof.climb.model import ClimbSpec
 from ftfof.climb.simulate import ClimbRun, chain_of, climb, gait_of
 from ftfof.climb.surface import switch_of
 from ftfof.config import LEG_NAMES, Params
-from ftfof.config.stages import SurfaceChange
+from ftfof.config.stages import Controller, SurfaceChange
 from ftfof.digests import json_sha256
 from ftfof.errors import ParamsError
 from ftfof.files import atomic_path, save_figure, write_json, write_parquet
@@ -45,7 +45,7 @@ from ftfof.sim.spec import BASELINE_SEGMENTS
 from ftfof.trajectory.piecewise import PiecewiseQuintic, Sampled
 
 CLIMBS = "climb"  # evaluate's climbs, inside its simulations' directory
-CONTROLLERS = ("none", "weights", "replan", "both")  # climb.controller's values
+CONTROLLERS: tuple[str, ...] = get_args(Controller)  # climb.controller's values
 
 
 @dataclass

@@ -65,12 +65,15 @@ def simulate_slip(params: Params, name: str, protocol: SlipProtocol = PROTOCOL) 
     return slip_test(bench.spec("slip", 0, drag(protocol.speed, protocol.drag)), protocol)
 
 
+def law_of(params: Params, name: str) -> BondLaw:
+    """Surface ``name``'s bond law at the acquisition's contact smoothing."""
+    return BondLaw.from_surface(surface_of(params, name), params.acquire.solver.contact_smoothing)
+
+
 def truth(params: Params, name: str) -> Estimate:
     """mu and F_adh per pad the preset and the bond law imply (:func:`adhesion_truth`)."""
-    r = params.selected_robot
-    law = BondLaw.from_surface(surface_of(params, name), params.acquire.solver.contact_smoothing)
-    area = r.foot.pad_length * r.platform.film.width
-    return Estimate(law.friction, adhesion_truth(law, r.pre_pressure, area))
+    r, law = params.selected_robot, law_of(params, name)
+    return Estimate(law.friction, adhesion_truth(law, r.pre_pressure, r.pad_area))
 
 
 def write_log(log: SlipLog, path: Path) -> None:
@@ -111,12 +114,9 @@ def preset(
     """Surface ``name``'s preset with the identified friction and the shear strength tau_max
     that gives the identified adhesion at the robot's preload (:func:`strength_for`,
     :func:`ftfof.identify.fit.preset_block`)."""
-    surface = surface_of(params, name)
     r = params.selected_robot
-    law = BondLaw.from_surface(surface, params.acquire.solver.contact_smoothing)
-    area = r.foot.pad_length * r.platform.film.width
-    tau = strength_for(law, r.pre_pressure, area, est.mu, est.adhesion)
-    return preset_block(surface, source, est.mu, tau, pull_off)
+    tau = strength_for(law_of(params, name), r.pre_pressure, r.pad_area, est.mu, est.adhesion)
+    return preset_block(surface_of(params, name), source, est.mu, tau, pull_off)
 
 
 def write_outputs(

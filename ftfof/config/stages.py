@@ -55,10 +55,20 @@ class Solver(Strict):
     step: PositiveFloat = 5e-4  # s, while bonds break or the pad lands
     # s, elsewhere: the same, since a change of step shakes the body (docs/simulator.md)
     free_step: PositiveFloat = 5e-4
+    # s: the step in quiet flight (no bond, the pad clear of the plate, after the detachment
+    # window and before the landing); None: ``step`` throughout. Changed between two steps, so
+    # the clock and the integrator agree (docs/simulator.md, "A longer step in quiet flight")
+    quiet_step: PositiveFloat | None = None
     tolerance: PositiveFloat = 1e-3  # Newton relative and absolute tolerance
     spectral_radius: Annotated[float, Field(ge=0, le=1)] = 0.5
     contact_smoothing: PositiveFloat = 1e-4  # m, width of the C1 contact ramp
     time_budget: PositiveFloat = 60.0  # wall seconds per sample before it is stopped as failed
+
+    @model_validator(mode="after")
+    def _quiet_with_one_step(self) -> Solver:
+        if self.quiet_step is not None and self.free_step != self.step:
+            raise ValueError("quiet_step needs free_step == step (one step outside quiet flight)")
+        return self
 
 
 class Acquire(Strict):

@@ -5,8 +5,10 @@ idle connectors, the film's curvature stops), holds
 the press depth on the pre-pressure until the trajectory starts, throws the photoelectric switch
 once the pad is off and clear, and picks the step: ``solver.step`` while bonds break or the pad
 lands and ``solver.free_step`` elsewhere (the defaults are one step throughout, since a change of
-step shakes the simulated body: docs/simulator.md, "Time step"). A non-finite state or the time
-budget stops the run, with the reason kept for the sample's record.
+step shakes the simulated body: docs/simulator.md, "Time step"). With ``solver.quiet_step`` it
+takes that step instead in quiet flight, set after a step so that Exudyn's clock and its
+integration agree (:meth:`PreStep.after_step`). A non-finite state or the time budget stops the
+run, with the reason kept for the sample's record.
 """
 
 from __future__ import annotations
@@ -27,6 +29,12 @@ PRESS_TIME_CONSTANT = 0.01  # s, integral action of the pre-pressure loop
 LANDING_WINDOW = 0.003  # m: below this lowest-film height after detachment, take small steps
 PEEL_TAIL = 0.03  # s of small steps after the last bond breaks (release ringing, IMU peak)
 NEAR_BREAK = 0.3  # small steps while some bond's opening lambda exceeds this (breaks at 1)
+# quiet flight (``solver.quiet_step``): no bond, the whole film this high above the plate even
+# after QUIET_LOOKAHEAD quiet steps at its closing speed, from this long after the switch (the
+# body jitter's window, switch + 50 ms, and 20 ms more) to the trajectory's end
+QUIET_HEIGHT = 0.003  # m
+QUIET_LOOKAHEAD = 10.0
+QUIET_AFTER_SWITCH = 0.07  # s
 
 
 class PreStep:
@@ -61,6 +69,10 @@ class PreStep:
         self.stop_reason: FailureReason | None = None
         self.stop_message = ""
         self.steps = 0
+        self.quiet_step = s.solver.quiet_step
+        self.quiet = False  # the step now taken is the quiet step
+        self.quiet_next = False  # decided in the pre-step, applied after the step (after_step)
+        self.quiet_steps = 0
 
     def __call__(self, mbs, t: float) -> bool:
         q = self.data.GetODE2Coordinates(copy=False)
@@ -81,7 +93,11 @@ class PreStep:
         ):
             self.switched_at = t
             self.p.switch_time.SetValue(t)
-        self._control_step(t, lam_max, lowest)
+        if self.quiet_step is None:
+            self._control_step(t, lam_max, lowest)
+        else:
+            self.quiet_steps += self.quiet
+            self.quiet_next = self._quiet(t, q, qd, n_bonded, lowest)
         self.steps += 1
         if self.steps % 64 == 0:
             if not np.isfinite(q).all():
@@ -94,6 +110,34 @@ class PreStep:
                     FailureReason.TIME_BUDGET,
                     f"time budget of {budget} s exceeded at t = {t:.4f} s",
                 )
+        return True
+
+    def _quiet(self, t: float, q: Array, qd: Array, n_bonded: int, lowest: float) -> bool:
+        """Whether the next step may be the quiet step: nothing sharp can happen within it."""
+        if (
+            n_bonded
+            or math.isnan(self.switched_at)
+            or t < self.switched_at + QUIET_AFTER_SWITCH
+            or t >= self.t_land
+            or lowest <= QUIET_HEIGHT
+        ):
+            return False
+        z = self.pad.node_index + 1
+        closing = max(float(qd[self.plate_index + 1] - qd[z].min()), 0.0)
+        return lowest - QUIET_LOOKAHEAD * closing * self.quiet_step > QUIET_HEIGHT
+
+    def after_step(self, mbs, t: float) -> bool:
+        """Post-step (only with ``solver.quiet_step``): set the next step's size. Exudyn advances
+        its clock by the step size before the pre-step runs, so a size set there would integrate
+        one step over another length than the clock moved (the old mixed steps' kicks, "Time
+        step"); set here, the next step's clock and integration both take it. ``maxStepSize``
+        caps the adaptive step's regrowth after a Newton failure at the phase's step."""
+        if self.quiet_next != self.quiet:
+            self.quiet = self.quiet_next
+            it = self.solver.it
+            h = self.quiet_step if self.quiet else self.p.spec.solver.step
+            it.maxStepSize = h
+            it.currentStepSize = h
         return True
 
     def _stop(self, reason: FailureReason, message: str) -> bool:

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
+from typing import Annotated, Literal, get_args
 
 from pydantic import (
     AfterValidator,
@@ -44,6 +44,14 @@ class Platform(Strict):
     protocol: Protocol
 
 
+# the phases of a run that may take a longer step (``Solver.phase_steps``), in the protocol's
+# order: before the trajectory, the settle, the press ramp and its hold; in the trajectory, the
+# flight clear of the plate (no bond, from the switch + 70 ms); after it, the landing hold from
+# its 50th ms on
+LongPhase = Literal["settle", "press", "press_hold", "flight", "landing_hold"]
+LONG_PHASES: tuple[LongPhase, ...] = get_args(LongPhase)
+
+
 class Solver(Strict):
     """Exudyn settings (docs/simulator.md): implicit generalised-alpha with step control."""
 
@@ -55,19 +63,20 @@ class Solver(Strict):
     step: PositiveFloat = 5e-4  # s, while bonds break or the pad lands
     # s, elsewhere: the same, since a change of step shakes the body (docs/simulator.md)
     free_step: PositiveFloat = 5e-4
-    # s: the step in quiet flight (no bond, the pad clear of the plate, after the detachment
-    # window and before the landing); None: ``step`` throughout. Changed between two steps, so
-    # the clock and the integrator agree (docs/simulator.md, "A longer step in quiet flight")
-    quiet_step: PositiveFloat | None = None
+    # s: a longer step in some of the protocol's phases (LongPhase -> its step), ``step`` in the
+    # others and always from lift-off to the switch + 70 ms and in the landing's first 50 ms;
+    # empty: ``step`` throughout. Changed between two steps, so the clock and the integrator
+    # agree (docs/simulator.md, "A longer step outside the peel and the landing")
+    phase_steps: dict[LongPhase, PositiveFloat] = Field(default_factory=dict)
     tolerance: PositiveFloat = 1e-3  # Newton relative and absolute tolerance
     spectral_radius: Annotated[float, Field(ge=0, le=1)] = 0.5
     contact_smoothing: PositiveFloat = 1e-4  # m, width of the C1 contact ramp
     time_budget: PositiveFloat = 60.0  # wall seconds per sample before it is stopped as failed
 
     @model_validator(mode="after")
-    def _quiet_with_one_step(self) -> Solver:
-        if self.quiet_step is not None and self.free_step != self.step:
-            raise ValueError("quiet_step needs free_step == step (one step outside quiet flight)")
+    def _phase_steps_with_one_step(self) -> Solver:
+        if self.phase_steps and self.free_step != self.step:
+            raise ValueError("phase_steps needs free_step == step (one step outside its phases)")
         return self
 
 

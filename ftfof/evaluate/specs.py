@@ -49,9 +49,9 @@ def evaluation_specs(
 
 
 def with_step(spec: SampleSpec, step: float) -> SampleSpec:
-    """``spec`` simulated with every solver step ``step`` (also in quiet flight: no
-    ``quiet_step``), its source and key prefixed ``FINE`` (the same sensor-noise seed)."""
-    return _variant(spec, FINE, step=step, free_step=step, quiet_step=None)
+    """``spec`` simulated with every solver step ``step`` (in every phase too: no
+    ``phase_steps``), its source and key prefixed ``FINE`` (the same sensor-noise seed)."""
+    return _variant(spec, FINE, step=step, free_step=step, phase_steps={})
 
 
 def with_nodes(spec: SampleSpec, nodes: int) -> SampleSpec:
@@ -59,7 +59,7 @@ def with_nodes(spec: SampleSpec, nodes: int) -> SampleSpec:
     return _variant(spec, FILM, nodes=nodes)
 
 
-def _variant(spec: SampleSpec, prefix: str, **solver: float | None) -> SampleSpec:
+def _variant(spec: SampleSpec, prefix: str, **solver: float | dict[str, float]) -> SampleSpec:
     """``spec`` with ``solver`` settings changed, its source and key prefixed ``prefix``."""
     changed = spec.solver.model_copy(update=solver)
     return replace(spec, key=prefix + spec.key, source=prefix + spec.source, solver=changed)

@@ -5,9 +5,10 @@ idle connectors, the film's curvature stops), holds
 the press depth on the pre-pressure until the trajectory starts, throws the photoelectric switch
 once the pad is off and clear, and picks the step: ``solver.step`` while bonds break or the pad
 lands and ``solver.free_step`` elsewhere (the defaults are one step throughout, since a change of
-step shakes the simulated body: docs/simulator.md, "Time step"). With ``solver.quiet_step`` it
-takes that step instead in quiet flight, set after a step so that Exudyn's clock and its
-integration agree (:meth:`PreStep.after_step`). A non-finite state or the time budget stops the
+step shakes the simulated body: docs/simulator.md, "Time step"). With ``solver.phase_steps`` it
+takes a longer step in the protocol's phases named there (:meth:`PreStep._phase` names the phase
+of a time), set after a step so that Exudyn's clock and its integration agree
+(:meth:`PreStep.after_step`). A non-finite state or the time budget stops the
 run, with the reason kept for the sample's record.
 """
 
@@ -29,12 +30,15 @@ PRESS_TIME_CONSTANT = 0.01  # s, integral action of the pre-pressure loop
 LANDING_WINDOW = 0.003  # m: below this lowest-film height after detachment, take small steps
 PEEL_TAIL = 0.03  # s of small steps after the last bond breaks (release ringing, IMU peak)
 NEAR_BREAK = 0.3  # small steps while some bond's opening lambda exceeds this (breaks at 1)
-# quiet flight (``solver.quiet_step``): no bond, the whole film this high above the plate even
-# after QUIET_LOOKAHEAD quiet steps at its closing speed, from this long after the switch (the
-# body jitter's window, switch + 50 ms, and 20 ms more) to the trajectory's end
-QUIET_HEIGHT = 0.003  # m
-QUIET_LOOKAHEAD = 10.0
-QUIET_AFTER_SWITCH = 0.07  # s
+# the phases of ``solver.phase_steps``. The flight: no bond,
+# the whole film this high above the plate even after FLIGHT_LOOKAHEAD long steps at its closing
+# speed, from this long after the switch (the body jitter's window, switch + 50 ms, and 20 ms
+# more) to the trajectory's end. The landing hold: from this long after the trajectory's end
+FLIGHT_HEIGHT = 0.003  # m
+FLIGHT_LOOKAHEAD = 10.0
+FLIGHT_AFTER_SWITCH = 0.07  # s
+LANDING_FINE = 0.05  # s
+PHASE_EPS = 1e-9  # s: a step that ends this close after a phase's end ends in that phase
 
 
 class PreStep:
@@ -69,10 +73,11 @@ class PreStep:
         self.stop_reason: FailureReason | None = None
         self.stop_message = ""
         self.steps = 0
-        self.quiet_step = s.solver.quiet_step
-        self.quiet = False  # the step now taken is the quiet step
-        self.quiet_next = False  # decided in the pre-step, applied after the step (after_step)
-        self.quiet_steps = 0
+        self.t_settle = s.platform.protocol.settle
+        self.step = s.solver.step
+        self.phase_steps: dict[str, float] = dict(s.solver.phase_steps)
+        self.h = self.h_next = self.step  # the step now taken; the next, set after the step
+        self.long_steps = 0  # steps taken longer than ``step``
 
     def __call__(self, mbs, t: float) -> bool:
         q = self.data.GetODE2Coordinates(copy=False)
@@ -93,11 +98,11 @@ class PreStep:
         ):
             self.switched_at = t
             self.p.switch_time.SetValue(t)
-        if self.quiet_step is None:
+        if not self.phase_steps:
             self._control_step(t, lam_max, lowest)
         else:
-            self.quiet_steps += self.quiet
-            self.quiet_next = self._quiet(t, q, qd, n_bonded, lowest)
+            self.long_steps += self.h > self.step
+            self.h_next = self._next_step(t, qd, n_bonded, lowest)
         self.steps += 1
         if self.steps % 64 == 0:
             if not np.isfinite(q).all():
@@ -112,32 +117,49 @@ class PreStep:
                 )
         return True
 
-    def _quiet(self, t: float, q: Array, qd: Array, n_bonded: int, lowest: float) -> bool:
-        """Whether the next step may be the quiet step: nothing sharp can happen within it."""
-        if (
-            n_bonded
-            or math.isnan(self.switched_at)
-            or t < self.switched_at + QUIET_AFTER_SWITCH
-            or t >= self.t_land
-            or lowest <= QUIET_HEIGHT
-        ):
-            return False
-        z = self.pad.node_index + 1
-        closing = max(float(qd[self.plate_index + 1] - qd[z].min()), 0.0)
-        return lowest - QUIET_LOOKAHEAD * closing * self.quiet_step > QUIET_HEIGHT
+    def _phase(self, t: float) -> str | None:
+        """The protocol's phase at time ``t`` where a long step may apply (config's
+        ``LongPhase``); None from lift-off to the switch + FLIGHT_AFTER_SWITCH and in the
+        landing's first LANDING_FINE, which always take ``step``."""
+        if t < self.t_settle:
+            return "settle"
+        if t < self.t_press_end:
+            return "press"
+        if t < self.t0:
+            return "press_hold"
+        if t < self.t_land:
+            return "flight" if t >= self.switched_at + FLIGHT_AFTER_SWITCH else None
+        return "landing_hold" if t >= self.t_land + LANDING_FINE else None
+
+    def _next_step(self, t: float, qd: Array, n_bonded: int, lowest: float) -> float:
+        """The step from ``t``: its phase's step where it ends in a phase whose step is at least
+        as long, and in the flight nothing sharp can happen within it (no bond, the film clear of
+        the plate at its closing speed); ``step`` otherwise."""
+        first = self._phase(t)
+        h = self.phase_steps.get(first, self.step)  # type: ignore[arg-type]
+        if h == self.step:
+            return h
+        last = self._phase(t + h - PHASE_EPS)
+        if self.phase_steps.get(last, self.step) < h:  # type: ignore[arg-type]
+            return self.step
+        if "flight" in (first, last):
+            z = self.pad.node_index + 1
+            closing = max(float(qd[self.plate_index + 1] - qd[z].min()), 0.0)
+            if n_bonded or lowest - FLIGHT_LOOKAHEAD * closing * h <= FLIGHT_HEIGHT:
+                return self.step
+        return h
 
     def after_step(self, mbs, t: float) -> bool:
-        """Post-step (only with ``solver.quiet_step``): set the next step's size. Exudyn advances
+        """Post-step (only with ``solver.phase_steps``): set the next step's size. Exudyn advances
         its clock by the step size before the pre-step runs, so a size set there would integrate
         one step over another length than the clock moved (the old mixed steps' kicks, "Time
         step"); set here, the next step's clock and integration both take it. ``maxStepSize``
         caps the adaptive step's regrowth after a Newton failure at the phase's step."""
-        if self.quiet_next != self.quiet:
-            self.quiet = self.quiet_next
+        if self.h_next != self.h:
+            self.h = self.h_next
             it = self.solver.it
-            h = self.quiet_step if self.quiet else self.p.spec.solver.step
-            it.maxStepSize = h
-            it.currentStepSize = h
+            it.maxStepSize = self.h
+            it.currentStepSize = self.h
         return True
 
     def _stop(self, reason: FailureReason, message: str) -> bool:

@@ -54,7 +54,7 @@ def simulate(spec: SampleSpec, idle_bonds: bool = True) -> SampleResult:
             "tolerance": spec.solver.tolerance / 3,
             "step": spec.solver.step / 2,
             "free_step": spec.solver.free_step / 2,
-            "quiet_step": spec.solver.quiet_step and spec.solver.quiet_step / 2,
+            "phase_steps": {k: h / 2 for k, h in spec.solver.phase_steps.items()},
         }
     )
     second = _simulate_once(replace(spec, solver=solver), idle_bonds)
@@ -73,7 +73,7 @@ def _simulate_once(spec: SampleSpec, idle_bonds: bool) -> SampleResult:
     solver = exu.MainSolverImplicitSecondOrder()
     run = PreStep(platform, solver, idle_bonds)
     platform.mbs.SetPreStepUserFunction(run)
-    if spec.solver.quiet_step is not None:
+    if spec.solver.phase_steps:
         platform.mbs.SetPostStepUserFunction(run.after_step)
     reason: FailureReason | None = None
     error = ""
@@ -216,6 +216,6 @@ def summarize(result: SampleResult, run: PreStep, spec: SampleSpec) -> dict[str,
         else math.nan,
         "bonds_at_end": float(c["bonds"][-1]) if len(c["bonds"]) else math.nan,
         "steps": float(run.steps),
-        "quiet_steps": float(run.quiet_steps),
+        "long_steps": float(run.long_steps),
         "retries": 0.0,
     }

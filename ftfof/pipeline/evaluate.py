@@ -33,6 +33,7 @@ from ftfof.pipeline.console import console
 from ftfof.pipeline.jobs import FINAL, Acquisition
 from ftfof.pipeline.registry import model_record, promote
 from ftfof.pipeline.summaries import write_metrics
+from ftfof.report import run_metrics
 from ftfof.report.context import STAGE_FIGURES
 from ftfof.report.eps_study import eps_figure
 from ftfof.report.html import figure_data_uri
@@ -223,7 +224,7 @@ def _tracked(params: Params, inputs: Inputs) -> Iterator[Any]:
 def _log(mlflow, params: Params, summary: dict, paths: Paths) -> None:
     """The table and fidelity as metrics, the report as artifacts; ``train.alias`` moved to the
     model version that found the optimum, which the run is tagged with."""
-    mlflow.log_metrics(run_metrics(summary))
+    mlflow.log_metrics(run_metrics.evaluate(summary))
     for path in (paths.report, paths.export, paths.metrics):
         mlflow.log_artifact(str(path), artifact_path="report")
     version = promote(
@@ -235,30 +236,3 @@ def _log(mlflow, params: Params, summary: dict, paths: Paths) -> None:
             f"{params.train.alias} is not moved"
         )
     mlflow.set_tag(tracking.MODEL_TAG, version.uri if version else "unregistered")
-
-
-def run_metrics(summary: dict) -> dict[str, float]:
-    """``table.<row>.<column>`` (Table I analogue), ``fidelity.<objective>.<stat>``,
-    ``climb.<trajectory>.<figure>`` (the climbing robot; ``fell`` as 0 or 1),
-    ``slip.<controller>.<figure>`` (evaluate.slip_comparison) and ``time.seconds``."""
-    name = tracking.metric_name
-    out = {
-        name("table", row_name, key): value
-        for row_name, row in summary["table"].items()
-        for key, value in row.items()
-        if isinstance(value, int | float)
-    }
-    for objective, values in summary["fidelity"].items():
-        out.update({name("fidelity", objective, k): v for k, v in values.items()})
-    for trajectory, climbed in summary.get("climb", {}).items():
-        out.update(
-            {
-                name("climb", trajectory, k): float(v)
-                for k, v in climbed.items()
-                if isinstance(v, int | float) and v is not None
-            }
-        )
-    for controller, row in summary.get("slip", {}).items():
-        out.update({name("slip", controller, k): float(v) for k, v in row.items() if v is not None})
-    out[name("time", "seconds")] = summary["seconds"]
-    return tracking.finite(out)

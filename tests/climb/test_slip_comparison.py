@@ -10,8 +10,8 @@ from ftfof.climb.surface import SurfaceSwitch
 from ftfof.config import LEG_NAMES
 from ftfof.errors import ParamsError
 from ftfof.pipeline.bench import baseline_trajectories, context_of
-from ftfof.pipeline.evaluate import run_metrics
 from ftfof.pipeline.params_file import parse_params
+from ftfof.report import run_metrics
 
 
 def test_the_comparison_climbs_the_scenario_once_per_controller(params, tmp_path, monkeypatch):
@@ -32,7 +32,7 @@ def test_the_comparison_climbs_the_scenario_once_per_controller(params, tmp_path
     assert spec.switch == switch and spec.name == "slip_eps_bezier"
     assert set(table) == set(CONTROLLERS)
     assert table["both"] == {"slip_distance": 2e-3, "max_slip_velocity": 7e-3, "fell": False}
-    metrics = run_metrics({"table": {}, "fidelity": {}, "slip": table, "seconds": 1.0})
+    metrics = run_metrics.evaluate({"table": {}, "fidelity": {}, "slip": table, "seconds": 1.0})
     assert metrics["slip.both.slip_distance"] == 2e-3 and metrics["slip.none.fell"] == 0.0
 
 

@@ -9,7 +9,6 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-import numpy as np
 import pyarrow.parquet as pq
 
 from ftfof.config import Optimize
@@ -20,7 +19,6 @@ from ftfof.files import atomic_dir
 from ftfof.optimize.select import Outcome, front_table, optimum_record
 from ftfof.pipeline.catalog import run_first, writer_of
 from ftfof.robot import RobotContext
-from ftfof.trajectory.bezier import DECISION_NAMES
 
 OPTIMUM_FILE = "optimum.json"  # the chosen row, RHS's steps and the simulator's verdicts
 FRONT_FILE = "front.parquet"  # the front, the nominees and the polished rows, one per row
@@ -121,13 +119,3 @@ def read_figure(path: Path) -> str:
         return png_data_uri(path.read_bytes())
     except ValueError:
         raise DataError(str(path), "is not a PNG image") from None
-
-
-def refused_rows(inputs: Inputs) -> np.ndarray:
-    """The decision rows an optimum's simulator check refused."""
-    rows = [v["row"] for v in inputs.optimum["simulator_check"] if not v["ok"]]
-    return (
-        inputs.front.loc[rows, list(DECISION_NAMES)]
-        .to_numpy(float)
-        .reshape(-1, len(DECISION_NAMES))
-    )

@@ -6,7 +6,8 @@ target is met and enough of the points are clean; or nothing it simulated is new
 data) or adds the new points to the training data and searches again. Its clean points are also
 candidates: the best of them (:func:`nominees_of`) join the next search's simulator check beside
 the surrogate's (docs/optimum.md). :class:`Rounds` carries what the rounds so far left, the same
-way for a round run now and for one a resumed run reads back.
+way for a round run now and for one a resumed run reads back; :class:`Round` is one round as the
+report shows it.
 """
 
 from __future__ import annotations
@@ -71,6 +72,44 @@ class Rounds:
     def unseen(self, rows: pa.Table, base: pa.Table) -> pa.Table:
         """``rows`` that neither ``base`` nor an earlier round holds."""
         return unseen(rows, [base, *self.added])
+
+
+@dataclass
+class Round:
+    """One round as the report shows it."""
+
+    record: dict[str, Any]  # the report's entry but the seconds (kept out of data/refine)
+    target_met: bool  # the fidelity target held: nothing was added, the models were kept
+    simulated: int  # simulations run by this invocation
+    # none of its successful simulations was new to the training data (a front of known points,
+    # or every new one failed): nothing to fine-tune on, so the rounds end with the models kept
+    nothing_new: bool = False
+    seconds: float = 0.0
+
+    @property
+    def last(self) -> bool:
+        return self.target_met or self.nothing_new
+
+    def line(self, first: str) -> str:
+        """The round in one line: its fidelity on the ``first`` objective, the optimum
+        predicted and simulated, the clean share, and how it ended."""
+        r = self.record
+        f = r["fidelity"][first]
+        opt = r["optimum"]
+        return (
+            f"round {r['round']}: {self.simulated} simulated now; {first} rho {f['spearman']:.3f}, "
+            f"median relative error {100 * f['median_relative_error']:.1f} %, optimum "
+            f"{opt['predicted'][first]:.4g} predicted vs {opt['simulated'][first]:.4g} simulated; "
+            f"{100 * r['clean_fraction']:.0f} % clean; "
+            + (
+                "target met, stop"
+                if self.target_met
+                else "nothing new to learn from, stop"
+                if self.nothing_new
+                else f"{r['added']} added"
+            )
+            + f"; {self.seconds:.1f} s"
+        )
 
 
 @dataclass(frozen=True)
@@ -173,6 +212,16 @@ def nominees_of(
         if len(ranked) == limit:
             break
     return Nominees(X[ranked], [origin[i] for i in ranked])
+
+
+def refused_rows(inputs: Inputs) -> np.ndarray:
+    """The decision rows an optimum's simulator check refused."""
+    rows = [v["row"] for v in inputs.optimum["simulator_check"] if not v["ok"]]
+    return (
+        inputs.front.loc[rows, list(DECISION_NAMES)]
+        .to_numpy(float)
+        .reshape(-1, len(DECISION_NAMES))
+    )
 
 
 def unseen(rows: pa.Table, tables: list[pa.Table]) -> pa.Table:

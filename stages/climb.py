@@ -48,10 +48,10 @@ def command(
     foot on the given trajectory; writes its channels, IMU, per-step metrics and traces."""
     from ftfof.climb.outcome import CONTROLLERS, run_climb
     from ftfof.errors import ParamsError
+    from ftfof.evaluate.pick import Source
     from ftfof.pipeline.bench import context_of
     from ftfof.pipeline.climb import climb_spec, write_climb
     from ftfof.pipeline.climb import compare_controllers as compare
-    from ftfof.pipeline.export import Source
     from ftfof.pipeline.params_file import load_params
     from ftfof.robot import check_points, parse_points
 

@@ -30,9 +30,10 @@ from ftfof.config import Params
 from ftfof.config.stages import SurfaceChange
 from ftfof.digests import json_sha256
 from ftfof.errors import ParamsError
+from ftfof.evaluate.pick import Source
 from ftfof.files import atomic_path, save_figure, write_json, write_parquet
 from ftfof.pipeline.bench import bench, context_of
-from ftfof.pipeline.export import Source, trajectory_of
+from ftfof.pipeline.export import trajectory_of
 from ftfof.pipeline.jobs import MANIFEST, open_resumable, source
 from ftfof.report.climb_figure import climb_traces, side_view
 from ftfof.robot import RobotContext

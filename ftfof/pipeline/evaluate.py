@@ -35,8 +35,6 @@ from ftfof.pipeline.registry import model_record, promote
 from ftfof.pipeline.summaries import write_metrics
 from ftfof.report import run_metrics
 from ftfof.report.context import STAGE_FIGURES
-from ftfof.report.eps_study import eps_figure
-from ftfof.report.html import figure_data_uri
 from ftfof.robot import RobotContext
 from ftfof.study.eps import simulate as eps_study
 from ftfof.trajectory.piecewise import Sampled
@@ -56,8 +54,7 @@ class Paths:
 
 def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
     """Re-simulate the optimum against the common trajectories; report, metrics, export."""
-    from ftfof.report.context import report_context
-    from ftfof.report.html import render
+    from ftfof.report.context import evaluation_page
     from ftfof.surrogate.store import load_surrogate
 
     started = time.perf_counter()
@@ -106,17 +103,18 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
             result.summary["slip"] = slip_comparison(params, ctx, trajectory, out)
         eps = eps_study(bench(params, ctx), baselines["eps_bezier"], params.study.eps, pool)
         result.summary["eps_study"] = eps.report()
-        values = report_context(
-            result, ctx, inputs, params.surface, result.summary["reference"], params.climb.steps
+        html = evaluation_page(
+            result,
+            ctx,
+            inputs,
+            params.surface,
+            params.climb.steps,
+            pictures,
+            _climb_figures(paths.out, climbed),
+            eps,
+            str(paths.export),
+            rounds,
         )
-        values["eps_study"] = result.summary["eps_study"]
-        values["figures"] = {
-            **pictures,
-            **values["figures"],
-            **_climb_figures(paths.out, climbed),
-            "eps_study": figure_data_uri(eps_figure(eps)),
-        }
-        html = render({**values, "export_path": str(paths.export), "refine": rounds})
         controller = result.controller
         with atomic_path(paths.export) as tmp:
             header = ",".join(controller.columns)

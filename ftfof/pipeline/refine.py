@@ -35,7 +35,7 @@ import pyarrow.parquet as pq
 from ftfof.config import Params
 from ftfof.data.acquisition import ACQUISITION
 from ftfof.data.refinement import grow
-from ftfof.digests import file_sha256, json_sha256, models_digest
+from ftfof.digests import file_sha256, models_digest
 from ftfof.errors import DataError
 from ftfof.evaluate.run import Inputs, front_sample
 from ftfof.evaluate.specs import front_specs
@@ -174,13 +174,7 @@ def _round(
     if unseen is not None and not nothing_new:
         new = _rows(params, unseen, k)
         added = new.num_rows
-        grown = TrainingData(
-            rounds.grown(data.table, state.rounds, new),
-            data.normalization,
-            data.seq_len,
-            data.hold,
-            json_sha256({"dataset": data.metadata_digest, "refine": key, "round": k}, 16),
-        )
+        grown = rounds.grown(data, state.rounds, new, key, k)
         _fine_tune(params, grown, state.models, rdir / "models")
 
         def search() -> None:  # with the nominees of every round's clean points so far

@@ -23,6 +23,7 @@ from ftfof.config import Dataset, Optimize, Refine, RefineTarget, Sample, Train
 from ftfof.data import dataset as ds
 from ftfof.data import targets
 from ftfof.data.refinement import grow, round_rows
+from ftfof.digests import json_sha256
 from ftfof.errors import SimulationError
 from ftfof.evaluate.fidelity import Fidelity, relative_error, simulated_objectives, target_met
 from ftfof.evaluate.run import Inputs, fidelity_of, from_front, judged_front
@@ -31,6 +32,7 @@ from ftfof.optimize.select import FRONT, Nominees, Outcome, SimulatorCheck, rhs_
 from ftfof.robot import RobotContext
 from ftfof.seeds import seed_for
 from ftfof.surrogate.predict import Surrogate
+from ftfof.surrogate.store import TrainingData
 from ftfof.trajectory.bezier import DECISION_NAMES, same_trajectory
 
 DIGITS = 6  # of the fidelity numbers in a round's record
@@ -248,9 +250,16 @@ def training_rows(
     return round_rows(built, k)
 
 
-def grown(base: pa.Table, rounds: Rounds, rows: pa.Table) -> pa.Table:
-    """The training table with every round's rows and ``rows``."""
-    return grow(base, [*rounds.added, rows])
+def grown(data: TrainingData, rounds: Rounds, rows: pa.Table, key: str, k: int) -> TrainingData:
+    """The training data with every round's rows and round ``k``'s ``rows``, named by the data it
+    grew from, the refinement's fingerprint ``key`` and the round."""
+    return TrainingData(
+        grow(data.table, [*rounds.added, rows]),
+        data.normalization,
+        data.seq_len,
+        data.hold,
+        json_sha256({"dataset": data.metadata_digest, "refine": key, "round": k}, 16),
+    )
 
 
 def record(k: int, added: int, verdict: Verdict, names: list[str]) -> dict[str, Any]:

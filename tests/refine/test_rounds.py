@@ -153,3 +153,23 @@ def test_the_rows_an_optimums_check_refused():
     np.testing.assert_array_equal(refused_rows(inputs), front.loc[[7, 9]].to_numpy())
     none = Inputs({"simulator_check": checks[1:2]}, front, ["fs1"], "d")
     assert refused_rows(none).shape == (0, len(DECISION_NAMES))
+
+
+def test_the_grown_data_holds_every_rounds_rows_and_is_named_by_round():
+    from ftfof import config
+    from ftfof.data import dataset
+    from ftfof.data.refinement import round_rows
+    from ftfof.digests import json_sha256
+    from ftfof.refine.rounds import grown
+    from ftfof.surrogate.store import TrainingData
+    from tests.data.fake import fake_acquisition
+
+    built, norm = dataset.build(fake_acquisition(n=8, failed=0), config.Dataset(seq_len=16), 3)
+    data = TrainingData(built, norm, 16, 0.1, "d0")
+    sampled = built.filter(pa.compute.equal(built.column("source"), "sampled"))
+    first, second = round_rows(sampled.slice(0, 3), 1), round_rows(sampled.slice(3, 2), 2)
+    out = grown(data, Rounds(added=[first]), second, "key", 2)
+    assert out.table.num_rows == built.num_rows + 5
+    assert out.table.column("key").to_pylist()[-2:] == ["refine:2:3", "refine:2:4"]
+    assert (out.normalization, out.seq_len, out.hold) == (norm, 16, 0.1)
+    assert out.metadata_digest == json_sha256({"dataset": "d0", "refine": "key", "round": 2}, 16)

@@ -7,7 +7,6 @@ from __future__ import annotations
 import json
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
 
 import pyarrow.parquet as pq
 
@@ -16,7 +15,7 @@ from ftfof.digests import file_sha256, models_digest
 from ftfof.errors import DataError
 from ftfof.evaluate.run import Inputs
 from ftfof.files import atomic_dir
-from ftfof.optimize.select import Outcome, front_table, optimum_record
+from ftfof.optimize.select import Outcome, front_table, missing_fields, optimum_record
 from ftfof.pipeline.catalog import run_first, writer_of
 from ftfof.robot import RobotContext
 
@@ -44,20 +43,6 @@ def write_optimum(
 # ftfof that lacks one is refused by name, not with a KeyError deep in the stage.
 POLISH_READS = ("robot", "front_row", "models_digest", "simulator_check")
 EVALUATE_READS = (*POLISH_READS, "origin", "decision", "rhs.rows", "rhs.steps")
-
-
-def missing_fields(record: dict[str, Any], fields: Sequence[str]) -> list[str]:
-    """Those of ``fields`` that ``record`` lacks."""
-
-    def present(path: str) -> bool:
-        node: Any = record
-        for key in path.split("."):
-            if not isinstance(node, dict) or key not in node:
-                return False
-            node = node[key]
-        return True
-
-    return [f for f in fields if not present(f)]
 
 
 def read_optimum(directory: Path, robot: str, fields: Sequence[str] = EVALUATE_READS) -> Inputs:

@@ -8,8 +8,9 @@ from typing import Any
 
 from ftfof.config import Params, Surface
 from ftfof.identify.calibration import fit_bounds
-from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, context_of
+from ftfof.pipeline.bench import baseline_trajectories, bench, context_of
 from ftfof.pipeline.console import console
+from ftfof.sim.spec import baseline_specs
 
 
 def fit_surface(

@@ -27,7 +27,7 @@ from ftfof.pipeline.artefacts import (
     read_optimum,
     read_refine,
 )
-from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, context_of
+from ftfof.pipeline.bench import baseline_trajectories, bench, context_of
 from ftfof.pipeline.climb import CLIMBS, climb_all, slip_comparison, spec_for
 from ftfof.pipeline.console import console
 from ftfof.pipeline.jobs import FINAL, Acquisition
@@ -36,6 +36,7 @@ from ftfof.pipeline.summaries import write_metrics
 from ftfof.report import run_metrics
 from ftfof.report.context import STAGE_FIGURES
 from ftfof.robot import RobotContext
+from ftfof.sim.spec import baseline_specs
 from ftfof.study.eps import simulate as eps_study
 from ftfof.trajectory.piecewise import Sampled
 

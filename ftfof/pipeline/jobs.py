@@ -35,12 +35,12 @@ from ftfof.data.schema import TRAJECTORIES
 from ftfof.digests import bytes_sha256, file_sha256, json_sha256, tree_sha256
 from ftfof.files import atomic_path, read_table, write_json, write_parquet
 from ftfof.pipeline import interrupt
-from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, context_of
+from ftfof.pipeline.bench import baseline_trajectories, bench, context_of
 from ftfof.pipeline.console import progress
 from ftfof.robot import RobotContext
 from ftfof.sim import pool
 from ftfof.sim.simulate import SampleResult
-from ftfof.sim.spec import SampleSpec
+from ftfof.sim.spec import SampleSpec, baseline_specs
 from ftfof.version import __version__
 
 FINAL = "samples.parquet"

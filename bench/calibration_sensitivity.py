@@ -18,8 +18,9 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from ftfof.config.validate import parse_params
 from ftfof.pipeline.bench import baseline_trajectories, bench, context_of
-from ftfof.pipeline.params_file import parse_params, read_yaml
+from ftfof.pipeline.params_file import read_yaml
 from ftfof.sim.pool import run_all
 from ftfof.sim.spec import baseline_specs
 

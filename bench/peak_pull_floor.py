@@ -23,9 +23,10 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from ftfof.config.validate import parse_params
 from ftfof.data import targets
 from ftfof.pipeline.bench import baseline_trajectories, bench, context_of
-from ftfof.pipeline.params_file import parse_params, read_yaml
+from ftfof.pipeline.params_file import read_yaml
 from ftfof.sim.simulate import simulate
 from ftfof.sim.spec import SampleSpec, baseline_specs
 

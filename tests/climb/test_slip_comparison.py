@@ -8,9 +8,9 @@ import ftfof.pipeline.climb as climbs
 from ftfof.climb.outcome import CONTROLLERS
 from ftfof.climb.surface import SurfaceSwitch
 from ftfof.config import LEG_NAMES
+from ftfof.config.validate import parse_params
 from ftfof.errors import ParamsError
 from ftfof.pipeline.bench import baseline_trajectories, context_of
-from ftfof.pipeline.params_file import parse_params
 from ftfof.report import run_metrics
 
 

@@ -8,16 +8,9 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
+from ftfof.climb import outcome
 from ftfof.climb.metrics import SlipTotals
-from ftfof.climb.outcome import (
-    CONTROLLERS,
-    Climbed,
-    channel_columns,
-    checked_name,
-    controller_row,
-    document,
-    plain,
-)
+from ftfof.climb.outcome import Climbed
 from ftfof.config import LEG_NAMES
 from ftfof.errors import ParamsError
 from ftfof.trajectory.baselines import BezierTrajectory
@@ -27,8 +20,11 @@ def test_a_trajectory_the_rules_refuse_is_refused_unless_allowed(m3f):
     X = np.zeros(12)  # every control point at the start: no lift, no path
     trajectory = BezierTrajectory(m3f.policy, X)
     with pytest.raises(ParamsError, match=r"every leg \(FL, FR, HL, HR\) breaks mst_m3f's rules"):
-        checked_name(m3f, "points", trajectory, X)
-    assert checked_name(m3f, "points", trajectory, X, allow_infeasible=True) == "points-infeasible"
+        outcome.checked_name(m3f, "points", trajectory, X)
+    assert (
+        outcome.checked_name(m3f, "points", trajectory, X, allow_infeasible=True)
+        == "points-infeasible"
+    )
 
 
 def test_a_trajectory_the_robot_can_run_keeps_its_name(m3f):
@@ -36,7 +32,7 @@ def test_a_trajectory_the_robot_can_run_keeps_its_name(m3f):
 
     X = PUBLISHED_M3F
     assert not m3f.policy.check(X).failed(0)
-    assert checked_name(m3f, "optimum", BezierTrajectory(m3f.policy, X), X) == "optimum"
+    assert outcome.checked_name(m3f, "optimum", BezierTrajectory(m3f.policy, X), X) == "optimum"
 
 
 def _channels(rows: int = 3) -> dict[str, np.ndarray]:
@@ -48,7 +44,7 @@ def _channels(rows: int = 3) -> dict[str, np.ndarray]:
 
 def test_the_channels_are_named_by_leg_joint_and_axis():
     c = _channels()
-    columns = channel_columns(c)
+    columns = outcome.channel_columns(c)
     assert len(columns) == 3 + 9 + 4 * (7 + 6)
     np.testing.assert_array_equal(columns["body_pitch"], c["body"][:, 2])
     np.testing.assert_array_equal(columns["Fz_FR"], c["force"][:, 3])
@@ -73,7 +69,7 @@ def _climbed(fell: bool) -> Climbed:
 
 
 def test_a_climbs_document_is_plain_json():
-    doc = document(_climbed(fell=True))
+    doc = outcome.document(_climbed(fell=True))
     assert doc["summary"]["jitter"] is None and type(doc["summary"]["steps_done"]) is float
     assert doc["fall"] == "FL let go" and doc["wall_time_s"] == 12.346
     assert doc["controller"] == "both" and doc["control"] == {"slipping": 2}
@@ -81,7 +77,7 @@ def test_a_climbs_document_is_plain_json():
 
 
 def test_a_controllers_row():
-    row = controller_row(_climbed(fell=False))
+    row = outcome.controller_row(_climbed(fell=False))
     assert row == {
         "slip_distance": 2e-3,
         "max_slip_velocity": 7e-3,
@@ -95,7 +91,7 @@ def test_a_controllers_row():
 
 
 def test_plain_values():
-    assert plain(np.int64(3)) == 3 and type(plain(np.int64(3))) is int
-    assert plain(math.inf) is None and plain(np.float64(math.nan)) is None
-    assert plain("x") == "x"
-    assert CONTROLLERS == ("none", "weights", "replan", "both")
+    assert outcome.plain(np.int64(3)) == 3 and type(outcome.plain(np.int64(3))) is int
+    assert outcome.plain(math.inf) is None and outcome.plain(np.float64(math.nan)) is None
+    assert outcome.plain("x") == "x"
+    assert outcome.CONTROLLERS == ("none", "weights", "replan", "both")

@@ -14,11 +14,12 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from ftfof.climb.simulate import climb
-from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, context_of
+from ftfof.evaluate.pick import Source
+from ftfof.pipeline.bench import baseline_trajectories, bench, context_of
 from ftfof.pipeline.climb import climb_spec
-from ftfof.pipeline.export import Source
 from ftfof.pipeline.params_file import load_params
 from ftfof.sim.simulate import simulate
+from ftfof.sim.spec import baseline_specs
 from stages.runtime import tune_allocator
 
 

@@ -18,9 +18,11 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, context_of
-from ftfof.pipeline.params_file import parse_params, read_yaml
+from ftfof.config.validate import parse_params
+from ftfof.pipeline.bench import baseline_trajectories, bench, context_of
+from ftfof.pipeline.params_file import read_yaml
 from ftfof.sim.pool import run_all
+from ftfof.sim.spec import baseline_specs
 
 FILM_125UM = {"FILM.thickness": 1.25e-4, "FILM.mass_per_length": 0.010}
 ROWS: list[tuple[str, dict[str, float]]] = [

@@ -25,10 +25,10 @@ import pandas as pd
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from ftfof.evaluate.runs import PAPER_OPTIMUM, figures_of
-from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, context_of
+from ftfof.pipeline.bench import baseline_trajectories, bench, context_of
 from ftfof.pipeline.params_file import load_params
 from ftfof.sim.simulate import simulate
-from ftfof.sim.spec import SampleSpec
+from ftfof.sim.spec import SampleSpec, baseline_specs
 from stages.runtime import tune_allocator
 
 FIGURES = ("peak_pull", "landing_pre_pressure", "jitter", "min_bend_radius")

@@ -23,11 +23,12 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from ftfof.config.validate import parse_params
 from ftfof.data import targets
-from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, context_of
-from ftfof.pipeline.params_file import parse_params, read_yaml
+from ftfof.pipeline.bench import baseline_trajectories, bench, context_of
+from ftfof.pipeline.params_file import read_yaml
 from ftfof.sim.simulate import simulate
-from ftfof.sim.spec import SampleSpec
+from ftfof.sim.spec import SampleSpec, baseline_specs
 
 SLOWDOWNS = (1, 2, 4, 8)
 BROKEN = (0.25, 0.5, 0.75)

@@ -25,13 +25,15 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from ftfof.config.validate import parse_params
 from ftfof.evaluate.simcheck import perturbed_runs
 from ftfof.evaluate.step_check import CHECKED, checked_figures
 from ftfof.pipeline import catalog
 from ftfof.pipeline.artefacts import OPTIMUM_FILE
-from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, context_of
-from ftfof.pipeline.params_file import parse_params, read_yaml
+from ftfof.pipeline.bench import baseline_trajectories, bench, context_of
+from ftfof.pipeline.params_file import read_yaml
 from ftfof.sim.simulate import simulate
+from ftfof.sim.spec import baseline_specs
 from ftfof.trajectory.bezier import DECISION_NAMES
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -46,11 +46,12 @@ def command(
 ) -> None:
     """Climb the wall with the whole robot (climb.steps swings, one leg at a time), the swinging
     foot on the given trajectory; writes its channels, IMU, per-step metrics and traces."""
+    from ftfof.climb.outcome import CONTROLLERS, run_climb
     from ftfof.errors import ParamsError
+    from ftfof.evaluate.pick import Source
     from ftfof.pipeline.bench import context_of
-    from ftfof.pipeline.climb import CONTROLLERS, climb_spec, run_climb, write_climb
+    from ftfof.pipeline.climb import climb_spec, write_climb
     from ftfof.pipeline.climb import compare_controllers as compare
-    from ftfof.pipeline.export import Source
     from ftfof.pipeline.params_file import load_params
     from ftfof.robot import check_points, parse_points
 
@@ -73,14 +74,14 @@ def command(
     name, spec = climb_spec(params, source, optimize, allow_infeasible)
     title = f"{params.robot} on {params.surface}: {name}"
     if compare_controllers:
-        for key, row in compare(params, spec, out_dir, title).items():
+        for key, row in compare(spec, out_dir, title).items():
             fell = f"FELL: {row['fall']}" if row["fell"] else "climbed"
             console.print(
                 f"  {key:8s} slip {1e3 * row['slip_distance']:8.3f} mm, peak"
                 f" {1e3 * row['max_slip_velocity']:7.2f} mm/s, {fell} ({row['wall_time_s']:.0f} s)"
             )
         return
-    out = run_climb(params, spec)
+    out = run_climb(spec)
     run = out.run
     paths = write_climb(out, out_dir, title)
     s = out.summary

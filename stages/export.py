@@ -51,9 +51,10 @@ def command(
     """Export the optimum, a front row, a baseline or typed points for the robot's controller:
     foot positions and velocities, joint angles and rates, and where the trajectory came from."""
     from ftfof.errors import ParamsError
+    from ftfof.evaluate.pick import Source
     from ftfof.files import atomic_path
     from ftfof.pipeline.bench import context_of
-    from ftfof.pipeline.export import Source, export
+    from ftfof.pipeline.export import export
     from ftfof.pipeline.params_file import load_params
     from ftfof.robot import check_points, parse_points
 

@@ -42,12 +42,13 @@ def command(
     from ftfof.data.schema import TRAJECTORIES
     from ftfof.errors import ParamsError
     from ftfof.files import read_table
-    from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, context_of
+    from ftfof.pipeline.bench import baseline_trajectories, bench, context_of
     from ftfof.pipeline.params_file import load_params
     from ftfof.report.figures import sample_figure
     from ftfof.robot import check_points, parse_points
     from ftfof.sim.records import CHANNELS
     from ftfof.sim.simulate import simulate
+    from ftfof.sim.spec import baseline_specs
     from ftfof.trajectory.baselines import BASELINE_NAMES
     from ftfof.trajectory.bezier import DECISION_NAMES
 

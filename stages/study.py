@@ -33,7 +33,8 @@ def eps(
 ) -> None:
     """Landing impact and body jitter of the ε-Bezier baseline at each ε."""
     from ftfof.pipeline.params_file import load_params
-    from ftfof.pipeline.study import parse_epsilons, run
+    from ftfof.pipeline.study import run
+    from ftfof.study.eps import parse_epsilons
 
     params = load_params(params_path)
     values = params.study.eps if epsilons is None else parse_epsilons(epsilons)

@@ -13,8 +13,10 @@ import numpy as np
 import pyarrow as pa
 
 from ftfof.data.schema import field
+from ftfof.errors import DataError, SimulationError
 from ftfof.sim.film import FilmLimit
 from ftfof.sim.records import CHANNELS, SampleResult, Status
+from ftfof.sim.spec import Bench, SampleSpec
 from ftfof.trajectory.bezier import DECISION_NAMES
 
 SCALARS = (
@@ -83,6 +85,50 @@ ACQUISITION = pa.schema(
 # In-progress parts also carry each sample's wall time; the final table leaves it out so that
 # re-running gives byte-identical data (the times go to a report instead).
 PENDING = ACQUISITION.append(field("wall_time", pa.float64(), "s", "simulation wall time"))
+
+
+def sampled_specs(
+    on: Bench, table: pa.Table, robot: str, where: str, limit: int | None = None
+) -> tuple[list[SampleSpec], dict[str, np.ndarray]]:
+    """Specs of a trajectory table's first ``limit`` rows (all: None), source ``sampled`` with
+    the row's sample id, and their decision vectors by key; a table (at ``where``) holding
+    another robot's trajectories is refused."""
+    robots = set(table.column("robot").to_pylist())
+    if robots and robots != {robot}:
+        raise DataError(
+            where,
+            f"holds trajectories of {sorted(robots)} but params select robot {robot!r} "
+            "(re-run `ftfof sample`)",
+        )
+    if limit is not None:
+        table = table.slice(0, limit)
+    X = np.column_stack([table.column(n).to_numpy() for n in DECISION_NAMES])
+    ids = table.column("sample_id").to_numpy()
+    specs = [on.bezier("sampled", int(i), x) for i, x in zip(ids, X, strict=True)]
+    return specs, {s.key: x for s, x in zip(specs, X, strict=True)}
+
+
+def check_complete(table: pa.Table, expected: int, where: str) -> None:
+    """A finished job's rows (at ``where``) must be ``expected`` distinct samples."""
+    keys = table.column("key").to_pylist()
+    if len(set(keys)) != len(keys) or len(keys) != expected:
+        raise SimulationError(
+            where, f"expected {expected} distinct samples, found {len(set(keys))}"
+        )
+
+
+def check_failures(table: pa.Table, max_rate: float) -> None:
+    """At most ``max_rate`` of a job's samples may fail; more is an error naming the first."""
+    status = np.array(table.column("status").to_pylist())
+    failed = int(np.sum(status != "ok"))
+    rate = failed / max(table.num_rows, 1)
+    if rate > max_rate:
+        errors = [e for e in table.column("error").to_pylist() if e][:3]
+        raise SimulationError(
+            "acquire",
+            f"{failed} of {table.num_rows} samples failed ({rate:.1%} > acquire.max_failure_rate "
+            f"{max_rate:.1%}); first errors: {errors}",
+        )
 
 
 def to_table(

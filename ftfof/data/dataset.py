@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import json
 import warnings
+from collections import Counter
 from dataclasses import asdict, dataclass
 from typing import Any
 
@@ -204,6 +205,35 @@ def build(
         **{k: list(v.astype(np.float32)) for k, v in seqs.items()},
     }
     return pa.Table.from_pydict(data, schema=schema(settings.seq_len)), norm
+
+
+def assemble(
+    tables: list[pa.Table],
+    settings: config.Dataset,
+    seed: int,
+    landing_start: float,
+    provenance: dict[str, Any],
+) -> tuple[pa.Table, dict[str, Any]]:
+    """The dataset of the acquired and imported ``tables`` (:func:`build`; a sample in two is an
+    error), its metadata ``provenance`` with the sequence settings and the normalisation, and
+    its summary (:func:`summarize`, and the normalisation)."""
+    table = pa.concat_tables(tables)
+    keys = table.column("key").to_pylist()
+    if dup := [k for k, c in Counter(keys).items() if c > 1]:
+        raise DataError("dataset", f"sample {dup[0]!r} appears twice (imported twice?)")
+    built, norm = build(table, settings, seed, landing_start)
+    meta = {
+        **provenance,
+        "seq_len": settings.seq_len,
+        "hold": settings.hold,
+        "normalization": json.loads(norm.to_json()),
+    }
+    built = built.replace_schema_metadata({METADATA_KEY: json.dumps(meta, sort_keys=True)})
+    summary = {
+        **summarize(built, table.num_rows, settings.seq_len),
+        "normalization": meta["normalization"],
+    }
+    return built, summary
 
 
 def list_column(table: pa.Table, name: str) -> list[Array]:

@@ -348,6 +348,21 @@ def optimum_record(
     }
 
 
+def missing_fields(record: dict[str, Any], fields: Sequence[str]) -> list[str]:
+    """Those of ``fields`` (dotted: inside a section) that ``record`` (an optimum record, say)
+    lacks."""
+
+    def present(path: str) -> bool:
+        node: Any = record
+        for key in path.split("."):
+            if not isinstance(node, dict) or key not in node:
+                return False
+            node = node[key]
+        return True
+
+    return [f for f in fields if not present(f)]
+
+
 def convergence_csv(records: list[dict[str, Any]]) -> str:
     """The convergence history as CSV text: one line per logged generation."""
     header = "generation,evaluations,feasible,front,hypervolume\n"

@@ -7,9 +7,7 @@ from __future__ import annotations
 import json
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
 
-import numpy as np
 import pyarrow.parquet as pq
 
 from ftfof.config import Optimize
@@ -17,10 +15,9 @@ from ftfof.digests import file_sha256, models_digest
 from ftfof.errors import DataError
 from ftfof.evaluate.run import Inputs
 from ftfof.files import atomic_dir
-from ftfof.optimize.select import Outcome, front_table, optimum_record
+from ftfof.optimize.select import Outcome, front_table, missing_fields, optimum_record
 from ftfof.pipeline.catalog import run_first, writer_of
 from ftfof.robot import RobotContext
-from ftfof.trajectory.bezier import DECISION_NAMES
 
 OPTIMUM_FILE = "optimum.json"  # the chosen row, RHS's steps and the simulator's verdicts
 FRONT_FILE = "front.parquet"  # the front, the nominees and the polished rows, one per row
@@ -46,20 +43,6 @@ def write_optimum(
 # ftfof that lacks one is refused by name, not with a KeyError deep in the stage.
 POLISH_READS = ("robot", "front_row", "models_digest", "simulator_check")
 EVALUATE_READS = (*POLISH_READS, "origin", "decision", "rhs.rows", "rhs.steps")
-
-
-def missing_fields(record: dict[str, Any], fields: Sequence[str]) -> list[str]:
-    """Those of ``fields`` that ``record`` lacks."""
-
-    def present(path: str) -> bool:
-        node: Any = record
-        for key in path.split("."):
-            if not isinstance(node, dict) or key not in node:
-                return False
-            node = node[key]
-        return True
-
-    return [f for f in fields if not present(f)]
 
 
 def read_optimum(directory: Path, robot: str, fields: Sequence[str] = EVALUATE_READS) -> Inputs:
@@ -121,13 +104,3 @@ def read_figure(path: Path) -> str:
         return png_data_uri(path.read_bytes())
     except ValueError:
         raise DataError(str(path), "is not a PNG image") from None
-
-
-def refused_rows(inputs: Inputs) -> np.ndarray:
-    """The decision rows an optimum's simulator check refused."""
-    rows = [v["row"] for v in inputs.optimum["simulator_check"] if not v["ok"]]
-    return (
-        inputs.front.loc[rows, list(DECISION_NAMES)]
-        .to_numpy(float)
-        .reshape(-1, len(DECISION_NAMES))
-    )

@@ -3,12 +3,10 @@ bench and the baselines on it."""
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
-
 from ftfof.config import Params, Surface
 from ftfof.robot import RobotContext, robot_context
 from ftfof.seeds import seed_for
-from ftfof.sim.spec import Bench, SampleSpec
+from ftfof.sim.spec import Bench
 from ftfof.trajectory.baselines import common_trajectories
 from ftfof.trajectory.piecewise import Sampled
 
@@ -43,18 +41,7 @@ def baseline_trajectories(params: Params, ctx: RobotContext) -> dict[str, Sample
     )
 
 
-def baseline_specs(
-    on: Bench, trajectories: Mapping[str, Sampled], names: Iterable[str] | None = None
-) -> list[SampleSpec]:
-    """One spec per baseline (``names`` in order; default all), keyed ``baseline:<name>``."""
-    return [
-        on.analytic(f"baseline:{n}", 0, trajectories[n])
-        for n in (trajectories if names is None else names)
-    ]
-
-
 __all__ = [
-    "baseline_specs",
     "baseline_trajectories",
     "bench",
     "context_of",

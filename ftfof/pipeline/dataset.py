@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import json
 import time
-from collections import Counter
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -16,7 +15,6 @@ from ftfof.config import Params
 from ftfof.data import dataset
 from ftfof.data.acquisition import ACQUISITION
 from ftfof.digests import json_sha256
-from ftfof.errors import DataError
 from ftfof.files import read_table
 from ftfof.pipeline.jobs import MANIFEST, versions
 from ftfof.seeds import seed_for
@@ -49,31 +47,20 @@ def build(params: Params, acquisition: Path, imported: Path) -> Dataset:
     tables = [read_table(acquisition / "samples.parquet", ACQUISITION, "acquisition")]
     for path in sorted(imported.glob("*.parquet")) if imported.exists() else []:
         tables.append(read_table(path, ACQUISITION, "imported log"))
-    table = pa.concat_tables(tables)
-    keys = table.column("key").to_pylist()
-    if dup := [k for k, c in Counter(keys).items() if c > 1]:
-        raise DataError("dataset", f"sample {dup[0]!r} appears twice (imported twice?)")
     cfg = params.dataset
-    landing_start = params.selected_robot.timing.T2
-    built, norm = dataset.build(table, cfg, seed_for(params.base.seed, "split"), landing_start)
     manifest = acquisition / MANIFEST
     sim_versions = json.loads(manifest.read_text()).get("versions", {}) if manifest.exists() else {}
-    meta = {
+    provenance = {
         "params_hash": json_sha256(built_from(params), 16),
         "robot": params.robot,
         "surface": params.surface,
         "exudyn": sim_versions.get("exudyn", versions()["exudyn"]),
         "ftfof": versions()["ftfof"],
-        "seq_len": cfg.seq_len,
-        "hold": cfg.hold,
-        "normalization": json.loads(norm.to_json()),
     }
-    built = built.replace_schema_metadata({dataset.METADATA_KEY: json.dumps(meta, sort_keys=True)})
-    summary = {
-        "seconds": round(time.perf_counter() - started, 2),  # the stage's time (not hashed)
-        **dataset.summarize(built, table.num_rows, cfg.seq_len),
-        "normalization": meta["normalization"],
-    }
+    seed, landing_start = seed_for(params.base.seed, "split"), params.selected_robot.timing.T2
+    built, summary = dataset.assemble(tables, cfg, seed, landing_start, provenance)
+    # the stage's time (not hashed)
+    summary = {"seconds": round(time.perf_counter() - started, 2), **summary}
     return Dataset(
         built, summary, dataset_figure(built, cfg.plot_samples, seed_for(params.base.seed, "plots"))
     )

@@ -27,16 +27,16 @@ from ftfof.pipeline.artefacts import (
     read_optimum,
     read_refine,
 )
-from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, context_of
+from ftfof.pipeline.bench import baseline_trajectories, bench, context_of
 from ftfof.pipeline.climb import CLIMBS, climb_all, slip_comparison, spec_for
 from ftfof.pipeline.console import console
 from ftfof.pipeline.jobs import FINAL, Acquisition
 from ftfof.pipeline.registry import model_record, promote
 from ftfof.pipeline.summaries import write_metrics
+from ftfof.report import run_metrics
 from ftfof.report.context import STAGE_FIGURES
-from ftfof.report.eps_study import eps_figure
-from ftfof.report.html import figure_data_uri
 from ftfof.robot import RobotContext
+from ftfof.sim.spec import baseline_specs
 from ftfof.study.eps import simulate as eps_study
 from ftfof.trajectory.piecewise import Sampled
 
@@ -55,8 +55,7 @@ class Paths:
 
 def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
     """Re-simulate the optimum against the common trajectories; report, metrics, export."""
-    from ftfof.report.context import report_context
-    from ftfof.report.html import render
+    from ftfof.report.context import evaluation_page
     from ftfof.surrogate.store import load_surrogate
 
     started = time.perf_counter()
@@ -105,17 +104,18 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
             result.summary["slip"] = slip_comparison(params, ctx, trajectory, out)
         eps = eps_study(bench(params, ctx), baselines["eps_bezier"], params.study.eps, pool)
         result.summary["eps_study"] = eps.report()
-        values = report_context(
-            result, ctx, inputs, params.surface, result.summary["reference"], params.climb.steps
+        html = evaluation_page(
+            result,
+            ctx,
+            inputs,
+            params.surface,
+            params.climb.steps,
+            pictures,
+            _climb_figures(paths.out, climbed),
+            eps,
+            str(paths.export),
+            rounds,
         )
-        values["eps_study"] = result.summary["eps_study"]
-        values["figures"] = {
-            **pictures,
-            **values["figures"],
-            **_climb_figures(paths.out, climbed),
-            "eps_study": figure_data_uri(eps_figure(eps)),
-        }
-        html = render({**values, "export_path": str(paths.export), "refine": rounds})
         controller = result.controller
         with atomic_path(paths.export) as tmp:
             header = ",".join(controller.columns)
@@ -223,7 +223,7 @@ def _tracked(params: Params, inputs: Inputs) -> Iterator[Any]:
 def _log(mlflow, params: Params, summary: dict, paths: Paths) -> None:
     """The table and fidelity as metrics, the report as artifacts; ``train.alias`` moved to the
     model version that found the optimum, which the run is tagged with."""
-    mlflow.log_metrics(run_metrics(summary))
+    mlflow.log_metrics(run_metrics.evaluate(summary))
     for path in (paths.report, paths.export, paths.metrics):
         mlflow.log_artifact(str(path), artifact_path="report")
     version = promote(
@@ -235,30 +235,3 @@ def _log(mlflow, params: Params, summary: dict, paths: Paths) -> None:
             f"{params.train.alias} is not moved"
         )
     mlflow.set_tag(tracking.MODEL_TAG, version.uri if version else "unregistered")
-
-
-def run_metrics(summary: dict) -> dict[str, float]:
-    """``table.<row>.<column>`` (Table I analogue), ``fidelity.<objective>.<stat>``,
-    ``climb.<trajectory>.<figure>`` (the climbing robot; ``fell`` as 0 or 1),
-    ``slip.<controller>.<figure>`` (evaluate.slip_comparison) and ``time.seconds``."""
-    name = tracking.metric_name
-    out = {
-        name("table", row_name, key): value
-        for row_name, row in summary["table"].items()
-        for key, value in row.items()
-        if isinstance(value, int | float)
-    }
-    for objective, values in summary["fidelity"].items():
-        out.update({name("fidelity", objective, k): v for k, v in values.items()})
-    for trajectory, climbed in summary.get("climb", {}).items():
-        out.update(
-            {
-                name("climb", trajectory, k): float(v)
-                for k, v in climbed.items()
-                if isinstance(v, int | float) and v is not None
-            }
-        )
-    for controller, row in summary.get("slip", {}).items():
-        out.update({name("slip", controller, k): float(v) for k, v in row.items() if v is not None})
-    out[name("time", "seconds")] = summary["seconds"]
-    return tracking.finite(out)

@@ -7,29 +7,15 @@ from __future__ import annotations
 import json
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
-
-import numpy as np
 
 from ftfof.config import Params
 from ftfof.digests import json_sha256
-from ftfof.errors import DataError, ParamsError
+from ftfof.errors import DataError
 from ftfof.evaluate.export import export_metadata, render, runnable, simulated_figures
-from ftfof.evaluate.run import decision
+from ftfof.evaluate.pick import Picked, Source, front_row, named_baseline, typed_points
 from ftfof.pipeline.artefacts import POLISH_READS, read_optimum
 from ftfof.pipeline.bench import baseline_trajectories, context_of
 from ftfof.robot import RobotContext
-from ftfof.trajectory.baselines import BezierTrajectory
-from ftfof.trajectory.piecewise import Sampled
-
-
-@dataclass(frozen=True)
-class Source:
-    """Which trajectory: the optimum (``row`` None), a front row, a baseline, or points (m)."""
-
-    row: int | None = None
-    baseline: str | None = None
-    points: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -53,37 +39,15 @@ def export(
     return Exported(name, render(out, metadata, fmt), int(out.table.shape[0]))
 
 
-def trajectory_of(
-    params: Params, ctx: RobotContext, source: Source, optimize: Path
-) -> tuple[str, Sampled, np.ndarray | None, dict[str, Any]]:
+def trajectory_of(params: Params, ctx: RobotContext, source: Source, optimize: Path) -> Picked:
     """(name, trajectory, decision row or None for an analytic baseline, metadata of where it
-    came from)."""
+    came from): :mod:`ftfof.evaluate.pick` on this run's baselines or the front in
+    ``optimize``."""
     if source.baseline is not None:
-        baselines = baseline_trajectories(params, ctx)
-        if source.baseline not in baselines:
-            raise ParamsError(
-                "--baseline", f"unknown baseline {source.baseline!r} (have {', '.join(baselines)})"
-            )
-        note = {"constraint_policy": "not checked: an analytic baseline is not a Bezier row"}
-        return source.baseline, baselines[source.baseline], None, note
+        return named_baseline(baseline_trajectories(params, ctx), source.baseline)
     if source.points is not None:
-        X = np.asarray(source.points, dtype=float)
-        return "points", BezierTrajectory(ctx.policy, X), X, {}
-    inputs = read_optimum(optimize, ctx.name, POLISH_READS)
-    row = inputs.optimum["front_row"] if source.row is None else source.row
-    if row not in inputs.front.index:
-        raise ParamsError(
-            "--row", f"{row} is not a row of {optimize} (0..{inputs.front.index.max()})"
-        )
-    X = decision(inputs, row)
-    name = "optimum" if source.row is None else f"row{row}"
-    extra = {
-        "front_row": int(row),
-        "origin": str(inputs.front.loc[row, "origin"]) if "origin" in inputs.front else "front",
-        "optimum_digest": inputs.digest,
-        "models_digest": inputs.optimum["models_digest"],
-    }
-    return name, BezierTrajectory(ctx.policy, X), X, extra
+        return typed_points(ctx, source.points)
+    return front_row(ctx, read_optimum(optimize, ctx.name, POLISH_READS), source.row, optimize)
 
 
 def _simulated(metrics: Path, name: str, row: int | None) -> dict[str, float] | str:

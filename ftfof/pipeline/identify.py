@@ -17,12 +17,13 @@ from ftfof.data.sliplog import parse_slip
 from ftfof.errors import DataError, ParamsError
 from ftfof.files import atomic_path, save_figure
 from ftfof.identify.estimate import Estimate
-from ftfof.identify.fit import preset_block
 from ftfof.identify.log import SlipLog
 from ftfof.pipeline.params_file import edit_params
 from ftfof.pipeline.summaries import write_metrics
+from ftfof.sim import identified
 from ftfof.sim.bonds import BondLaw
-from ftfof.sim.slip import SlipProtocol, adhesion_truth, drag, slip_test, strength_for
+from ftfof.sim.identified import PROTOCOL, simulated_log
+from ftfof.sim.slip import SlipProtocol
 from ftfof.sim.spec import Bench
 
 COMMENT = "identified by ftfof identify (reports/identify.json)"
@@ -42,11 +43,6 @@ class IdentifyPaths:
         return self.folder / "surface.yaml"
 
 
-PROTOCOL = SlipProtocol(
-    loads=(-1.0, 0.0, 1.0, 2.0, 3.0, 4.0), speed=0.01, drag=0.008, ankle_stiffness=50.0
-)
-
-
 def surface_of(params: Params, name: str) -> Surface:
     if name not in params.surfaces:
         raise ParamsError("--surface", f"no surface {name!r} (have {', '.join(params.surfaces)})")
@@ -62,7 +58,7 @@ def simulate_slip(params: Params, name: str, protocol: SlipProtocol = PROTOCOL) 
         params.acquire,
         params.base.seed,
     )
-    return slip_test(bench.spec("slip", 0, drag(protocol.speed, protocol.drag)), protocol)
+    return simulated_log(bench, protocol)
 
 
 def law_of(params: Params, name: str) -> BondLaw:
@@ -71,9 +67,9 @@ def law_of(params: Params, name: str) -> BondLaw:
 
 
 def truth(params: Params, name: str) -> Estimate:
-    """mu and F_adh per pad the preset and the bond law imply (:func:`adhesion_truth`)."""
-    r, law = params.selected_robot, law_of(params, name)
-    return Estimate(law.friction, adhesion_truth(law, r.pre_pressure, r.pad_area))
+    """mu and F_adh per pad the preset and the bond law imply
+    (:func:`ftfof.sim.identified.truth`)."""
+    return identified.truth(law_of(params, name), params.selected_robot)
 
 
 def write_log(log: SlipLog, path: Path) -> None:
@@ -111,12 +107,10 @@ def read_calibration(path: Path, surface: str) -> float:
 def preset(
     params: Params, name: str, source: str, est: Estimate, pull_off: float | None = None
 ) -> dict[str, Any]:
-    """Surface ``name``'s preset with the identified friction and the shear strength tau_max
-    that gives the identified adhesion at the robot's preload (:func:`strength_for`,
-    :func:`ftfof.identify.fit.preset_block`)."""
-    r = params.selected_robot
-    tau = strength_for(law_of(params, name), r.pre_pressure, r.pad_area, est.mu, est.adhesion)
-    return preset_block(surface_of(params, name), source, est.mu, tau, pull_off)
+    """Surface ``name``'s preset with the identified values
+    (:func:`ftfof.sim.identified.identified_preset`)."""
+    law, robot = law_of(params, name), params.selected_robot
+    return identified.identified_preset(law, robot, surface_of(params, name), source, est, pull_off)
 
 
 def write_outputs(

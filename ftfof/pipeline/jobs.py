@@ -22,19 +22,25 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from ftfof.config import Params
-from ftfof.data.acquisition import ACQUISITION, PENDING, summarize, to_table
+from ftfof.data.acquisition import (
+    ACQUISITION,
+    PENDING,
+    check_complete,
+    check_failures,
+    sampled_specs,
+    summarize,
+    to_table,
+)
 from ftfof.data.schema import TRAJECTORIES
 from ftfof.digests import bytes_sha256, file_sha256, json_sha256, tree_sha256
-from ftfof.errors import DataError, SimulationError
 from ftfof.files import atomic_path, read_table, write_json, write_parquet
 from ftfof.pipeline import interrupt
-from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, context_of
+from ftfof.pipeline.bench import baseline_trajectories, bench, context_of
 from ftfof.pipeline.console import progress
 from ftfof.robot import RobotContext
 from ftfof.sim import pool
 from ftfof.sim.simulate import SampleResult
-from ftfof.sim.spec import SampleSpec
-from ftfof.trajectory.bezier import DECISION_NAMES
+from ftfof.sim.spec import SampleSpec, baseline_specs
 from ftfof.version import __version__
 
 FINAL = "samples.parquet"
@@ -59,20 +65,8 @@ class Acquisition:
         """The `acquire` job: every sampled trajectory (the first ``limit``) and the baselines."""
         ctx = context_of(params)
         table = read_table(trajectories, TRAJECTORIES, "trajectory table")
-        robots = set(table.column("robot").to_pylist())
-        if robots and robots != {ctx.name}:
-            raise DataError(
-                str(trajectories),
-                f"holds trajectories of {sorted(robots)} but params select robot {ctx.name!r} "
-                "(re-run `ftfof sample`)",
-            )
-        if limit is not None:
-            table = table.slice(0, limit)
         on = bench(params, ctx)
-        X = np.column_stack([table.column(n).to_numpy() for n in DECISION_NAMES])
-        ids = table.column("sample_id").to_numpy()
-        specs = [on.bezier("sampled", int(i), x) for i, x in zip(ids, X, strict=True)]
-        controls = {s.key: x for s, x in zip(specs, X, strict=True)}
+        specs, controls = sampled_specs(on, table, ctx.name, str(trajectories), limit)
         if params.acquire.baselines:
             specs += baseline_specs(on, baseline_trajectories(params, ctx))
         inputs = {"trajectories": file_sha256(trajectories), "limit": limit}
@@ -201,25 +195,11 @@ class Acquisition:
 
     def finish(self, wall: float, simulated: int, timing: Path | None = None) -> dict[str, object]:
         table = self.collect()
-        keys = table.column("key").to_pylist()
-        if len(set(keys)) != len(keys) or len(keys) != len(self.specs):
-            raise SimulationError(
-                str(self.out),
-                f"expected {len(self.specs)} distinct samples, found {len(set(keys))}",
-            )
-        status = np.array(table.column("status").to_pylist())
-        failed = int(np.sum(status != "ok"))
-        rate = failed / max(len(keys), 1)
+        check_complete(table, len(self.specs), str(self.out))
         limit = self.ctx.rules.film
         clearance = self.ctx.robot.foot.swing_clearance
         summary = summarize(table, limit, clearance, wall, simulated)
-        if rate > self.params.acquire.max_failure_rate:
-            errors = [e for e in table.column("error").to_pylist() if e][:3]
-            raise SimulationError(
-                "acquire",
-                f"{failed} of {len(keys)} samples failed ({rate:.1%} > acquire.max_failure_rate "
-                f"{self.params.acquire.max_failure_rate:.1%}); first errors: {errors}",
-            )
+        check_failures(table, self.params.acquire.max_failure_rate)
         if timing is not None:
             with atomic_path(timing) as tmp:
                 table.select(["key", "status", "wall_time"]).to_pandas().to_csv(tmp, index=False)

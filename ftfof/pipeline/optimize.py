@@ -34,6 +34,7 @@ from ftfof.pipeline.console import console
 from ftfof.pipeline.registry import RegisteredWeights, fetch_model
 from ftfof.pipeline.simcheck import simulator_check_of
 from ftfof.pipeline.summaries import write_metrics
+from ftfof.report import run_metrics
 from ftfof.robot import RobotContext
 
 if TYPE_CHECKING:
@@ -126,23 +127,6 @@ def write_outputs(
         save_figure(fig, target)
 
 
-def run_metrics(summary: dict) -> dict[str, float]:
-    """The optimize run's metrics: its time, the front, and the optimum as predicted."""
-    name = tracking.metric_name
-    return tracking.finite(
-        {
-            name("time", "seconds"): summary["seconds"],
-            name("time", "ms_per_generation"): summary["ms_per_generation"],
-            name("front", "size"): summary["front"]["size"],
-            name("front", "rejected_by_recheck"): summary["front"]["rejected_by_recheck"],
-            **{
-                name("optimum", "predicted", k): v
-                for k, v in summary["optimum"]["objectives"].items()
-            },
-        }
-    )
-
-
 class OptimizeRun:
     """The stage's MLflow run around the search, the choice and the outputs."""
 
@@ -221,14 +205,14 @@ class OptimizeRun:
         stamp = int(time.time() * 1000)
         step = record.generation
         metrics = [
-            Metric(tracking.metric_name("search", k), float(getattr(record, k)), stamp, step)
+            Metric(run_metrics.metric_name("search", k), float(getattr(record, k)), stamp, step)
             for k in ("hypervolume", "feasible", "front")
         ]
         self.mlflow.MlflowClient().log_batch(self.run_id, metrics=metrics)
 
     def _finish(self, outcome: Outcome, artifacts: tuple[Path, ...], optimum_digest: str) -> None:
         mlflow, summary = self.mlflow, outcome.summary
-        mlflow.log_metrics(run_metrics(summary))
+        mlflow.log_metrics(run_metrics.optimize(summary))
         mlflow.log_dict(summary, "optimize.json")
         mlflow.set_tag(tracking.OPTIMUM_DIGEST_TAG, optimum_digest)
         for path in artifacts:

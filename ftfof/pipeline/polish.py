@@ -42,6 +42,7 @@ from ftfof.pipeline.console import console, progress
 from ftfof.pipeline.jobs import close_resumable, open_resumable
 from ftfof.pipeline.registry import registered, used_loss
 from ftfof.pipeline.summaries import write_metrics
+from ftfof.report import run_metrics
 from ftfof.robot import RobotContext
 from ftfof.trajectory.bezier import DECISION_NAMES
 
@@ -228,21 +229,8 @@ def _tracked(params: Params, inputs: Inputs) -> Iterator[Any]:
 def _log(mlflow, params: Params, report: dict[str, Any], paths: Paths) -> None:
     """The run's metrics and report; tagged with its optimum's digest (evaluate links to it)
     and the model version whose surrogates it searched on (refine's)."""
-    mlflow.log_metrics(run_metrics(report))
+    mlflow.log_metrics(run_metrics.polish(report))
     mlflow.log_dict(report, "polish.json")
     mlflow.set_tag(tracking.OPTIMUM_DIGEST_TAG, optimum_digest(paths.out / OPTIMUM))
     version = registered(mlflow, params.robot, used_loss(paths.models), paths.models)
     mlflow.set_tag(tracking.MODEL_TAG, version.uri if version else "unregistered")
-
-
-def run_metrics(report: dict[str, Any]) -> dict[str, float]:
-    """``time.seconds``, and when it polished ``polish.simulated`` and
-    ``optimum.simulated.<objective>``."""
-    name = tracking.metric_name
-    out = {name("time", "seconds"): report["seconds"]}
-    if report["polished"]:
-        out[name("polish", "simulated")] = report["simulated"]
-        out.update(
-            {name("optimum", "simulated", k): v for k, v in report["optimum"]["simulated"].items()}
-        )
-    return tracking.finite(out)

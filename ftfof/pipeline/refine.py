@@ -35,7 +35,7 @@ import pyarrow.parquet as pq
 from ftfof.config import Params
 from ftfof.data.acquisition import ACQUISITION
 from ftfof.data.refinement import grow
-from ftfof.digests import file_sha256, json_sha256, models_digest
+from ftfof.digests import file_sha256, models_digest
 from ftfof.errors import DataError
 from ftfof.evaluate.run import Inputs, front_sample
 from ftfof.evaluate.specs import front_specs
@@ -45,7 +45,6 @@ from ftfof.pipeline.artefacts import (
     check_models,
     optimum_digest,
     read_optimum,
-    refused_rows,
     write_optimum,
 )
 from ftfof.pipeline.bench import bench, context_of
@@ -54,7 +53,7 @@ from ftfof.pipeline.jobs import FINAL, Acquisition, close_resumable, open_resuma
 from ftfof.pipeline.refine_run import RefineRun
 from ftfof.pipeline.summaries import write_metrics
 from ftfof.refine import rounds
-from ftfof.refine.rounds import Rounds
+from ftfof.refine.rounds import Round, Rounds
 from ftfof.robot import RobotContext
 from ftfof.surrogate.store import FILE, TrainingData, read_dataset, write_dataset
 
@@ -69,23 +68,6 @@ class Paths:
     out: Path  # data/refine
     report: Path  # reports/refine.json
     figure: Path  # fidelity against round (PNG)
-
-
-@dataclass
-class Round:
-    """One round as the report shows it."""
-
-    record: dict[str, Any]  # the report's entry but the seconds (kept out of data/refine)
-    target_met: bool  # the fidelity target held: nothing was added, the models were kept
-    simulated: int  # simulations run by this invocation
-    # none of its successful simulations was new to the training data (a front of known points,
-    # or every new one failed): nothing to fine-tune on, so the rounds end with the models kept
-    nothing_new: bool = False
-    seconds: float = 0.0
-
-    @property
-    def last(self) -> bool:
-        return self.target_met or self.nothing_new
 
 
 @dataclass
@@ -121,7 +103,7 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> dict[str, A
                 done.seconds = time.perf_counter() - started
                 tracked.round_done({**done.record, "seconds": done.seconds}, rdir)
             rounds.append(done)
-            _say(done, inputs.objectives[0])
+            console.print(done.line(inputs.objectives[0]))
             if done.last:
                 break
         _publish(paths, state, data)
@@ -192,13 +174,7 @@ def _round(
     if unseen is not None and not nothing_new:
         new = _rows(params, unseen, k)
         added = new.num_rows
-        grown = TrainingData(
-            rounds.grown(data.table, state.rounds, new),
-            data.normalization,
-            data.seq_len,
-            data.hold,
-            json_sha256({"dataset": data.metadata_digest, "refine": key, "round": k}, 16),
-        )
+        grown = rounds.grown(data, state.rounds, new, key, k)
         _fine_tune(params, grown, state.models, rdir / "models")
 
         def search() -> None:  # with the nominees of every round's clean points so far
@@ -226,7 +202,7 @@ def _carry(
     state.rounds.measure(points)
     if search is not None:
         search()
-    state.rounds.close(refused_rows(read_optimum(rdir / "optimize", ctx.name)), new)
+    state.rounds.close(rounds.refused_rows(read_optimum(rdir / "optimize", ctx.name)), new)
     state.models, state.front = rdir / "models", rdir / "optimize"
 
 
@@ -325,23 +301,3 @@ def _publish(paths: Paths, state: State, data: TrainingData) -> None:
     else:
         with atomic_dir(paths.out / "dataset") as tmp:
             shutil.copy(original, tmp / FILE)
-
-
-def _say(done: Round, first: str) -> None:
-    r = done.record
-    f = r["fidelity"][first]
-    opt = r["optimum"]
-    console.print(
-        f"round {r['round']}: {done.simulated} simulated now; {first} rho {f['spearman']:.3f}, "
-        f"median relative error {100 * f['median_relative_error']:.1f} %, optimum "
-        f"{opt['predicted'][first]:.4g} predicted vs {opt['simulated'][first]:.4g} simulated; "
-        f"{100 * r['clean_fraction']:.0f} % clean; "
-        + (
-            "target met, stop"
-            if done.target_met
-            else "nothing new to learn from, stop"
-            if done.nothing_new
-            else f"{r['added']} added"
-        )
-        + f"; {done.seconds:.1f} s"
-    )

@@ -17,6 +17,7 @@ from ftfof.pipeline import tracking
 from ftfof.pipeline.artefacts import optimum_digest
 from ftfof.pipeline.registering import module_of, register
 from ftfof.pipeline.registry import Version, registered, used_loss
+from ftfof.report import run_metrics
 
 
 class RefineRun:
@@ -58,7 +59,7 @@ class RefineRun:
     def round_done(self, record: dict[str, Any], rdir: Path) -> None:
         """In the round's run: its metrics, and its models (the next round links to it)."""
         mlflow = self.mlflow
-        mlflow.log_metrics(round_metrics(record))
+        mlflow.log_metrics(run_metrics.refine_round(record))
         if (rdir / "models").is_dir():
             mlflow.log_artifacts(str(rdir / "models"), artifact_path="models")
             mlflow.set_tag(tracking.MODELS_DIGEST_TAG, models_digest(rdir / "models"))
@@ -69,7 +70,7 @@ class RefineRun:
     def finish(self, report: dict[str, Any], artifacts: tuple[Path, ...]) -> Version:
         """The parent's metrics, artifacts and digests, and the final models' version."""
         mlflow, out = self.mlflow, self.out
-        name = tracking.metric_name
+        name = run_metrics.metric_name
         mlflow.log_metrics(
             {
                 name("refine", "rounds"): len(report["rounds"]),
@@ -90,15 +91,3 @@ class RefineRun:
             version = register(mlflow, robot, use, out / "models", module_of(out / "models", use))
         mlflow.set_tag(tracking.MODEL_TAG, version.uri)
         return version
-
-
-def round_metrics(record: dict[str, Any]) -> dict[str, float]:
-    """A round's numbers as MLflow metrics: ``refine.added``, ``time.seconds``,
-    ``fidelity.<objective>.<stat>``, ``optimum.<predicted|simulated>.<objective>``."""
-    name = tracking.metric_name
-    out = {name("refine", "added"): record["added"], name("time", "seconds"): record["seconds"]}
-    for objective, values in record["fidelity"].items():
-        out.update({name("fidelity", objective, k): v for k, v in values.items()})
-    for kind, values in record["optimum"].items():
-        out.update({name("optimum", kind, n): v for n, v in values.items()})
-    return tracking.finite(out)

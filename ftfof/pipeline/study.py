@@ -6,25 +6,11 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-import numpy as np
-
 from ftfof.config import Params
-from ftfof.errors import ParamsError
 from ftfof.files import save_figure, write_json
 from ftfof.pipeline.bench import baseline_trajectories, bench, context_of
 from ftfof.report.eps_study import eps_figure
 from ftfof.study.eps import EpsPoint, EpsStudy, simulate
-
-
-def parse_epsilons(text: str) -> list[float]:
-    """``0,0.5,1`` -> distinct, finite, non-negative values in increasing order."""
-    try:
-        values = [float(v) for v in text.split(",")]
-    except ValueError:
-        raise ParamsError("--epsilons", f"{text!r} is not comma-separated numbers") from None
-    if not all(np.isfinite(v) and v >= 0 for v in values) or len(set(values)) != len(values):
-        raise ParamsError("--epsilons", f"need distinct, finite values >= 0 (got {text})")
-    return sorted(values)
 
 
 def run(

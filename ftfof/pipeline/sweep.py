@@ -1,4 +1,5 @@
-"""Experiment sweeps as queued DVC experiments (the plan is :mod:`ftfof.study.sweep`).
+"""Experiment sweeps as queued DVC experiments (the plan, the queue's arguments and the reading of
+its status are :mod:`ftfof.study.sweep`).
 
 Each experiment sets every axis explicitly: ``dvc exp run`` keeps the workspace's params for the
 next experiment, so a setting left out would leak from the previous one.
@@ -17,37 +18,10 @@ from pathlib import Path
 
 from ftfof.errors import FtfofError
 from ftfof.pipeline import catalog
-from ftfof.study.sweep import Experiment, key_columns
+from ftfof.study.sweep import Experiment, failed, key_columns, queue_args, unfinished
 
 # evaluate's DVC summary: the reference, and the optimum's Table I figures with their changes
 SUMMARY = catalog.path("evaluate_summary").as_posix()
-
-
-def queue_args(experiment: Experiment) -> list[str]:
-    """Arguments of ``dvc`` that queue ``experiment``."""
-    sets = [arg for key, value in experiment.params.items() for arg in ("-S", f"{key}={value}")]
-    return ["exp", "run", "--queue", "-n", experiment.name, *sets]
-
-
-def unfinished(status_text: str, names: Sequence[str]) -> list[str]:
-    """The experiments of ``names`` that ``dvc queue status`` still shows queued or running."""
-    pending = []
-    for line in status_text.splitlines():
-        words = line.split()
-        if any(name in words for name in names) and {"Queued", "Running"} & set(words):
-            pending.append(next(n for n in names if n in words))
-    return pending
-
-
-def failed(status_text: str, names: Sequence[str]) -> list[str]:
-    """The experiments of ``names`` that ``dvc queue status`` shows as failed."""
-    return [
-        n
-        for line in status_text.splitlines()
-        if "Failed" in line.split()
-        for n in names
-        if n in line.split()
-    ]
 
 
 def dvc(*args: str) -> str:

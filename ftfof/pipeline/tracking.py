@@ -4,12 +4,9 @@ the run that made its inputs (README, Browsing runs in MLflow)."""
 from __future__ import annotations
 
 import hashlib
-import math
 import os
-import re
 import subprocess
 import warnings
-from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -101,27 +98,6 @@ def git_commit() -> str:
     except OSError:
         return "unknown"
     return out.stdout.strip() or "unknown"
-
-
-_SCOPE = re.compile(r"^[a-z][a-z0-9_]*$")
-_PART = re.compile(r"[^A-Za-z0-9_]+")
-
-
-def metric_name(scope: str, *parts: object) -> str:
-    """The one naming scheme of every MLflow metric: ``<scope>.<name>[.<detail>...]``, dotted,
-    the scope a lowercase word (``time``, ``search``, ``optimum``, ``fidelity``, ``table``...),
-    the rest as the project spells them (objectives ``fs1``, targets ``Fd``), other characters
-    as ``_``. One scheme so that a metric is found by the same name in every stage's runs."""
-    if not _SCOPE.match(scope):
-        raise ValueError(f"metric scope {scope!r} is not a lowercase word")
-    if not parts:
-        raise ValueError(f"metric {scope!r} has no name after its scope")
-    return ".".join([scope, *(_PART.sub("_", str(p)).strip("_") for p in parts)])
-
-
-def finite(metrics: Mapping[str, float]) -> dict[str, float]:
-    """``metrics`` as floats without NaN and infinities (MLflow rejects them)."""
-    return {k: float(v) for k, v in metrics.items() if math.isfinite(float(v))}
 
 
 def flatten(data: dict, prefix: str = "") -> dict[str, str]:

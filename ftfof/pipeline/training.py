@@ -15,6 +15,7 @@ from ftfof.pipeline import tracking
 from ftfof.pipeline.console import progress
 from ftfof.pipeline.registering import module_of, register
 from ftfof.pipeline.registry import model_name
+from ftfof.report import run_metrics
 from ftfof.surrogate.fit import EpochReport, Training
 from ftfof.surrogate.store import TARGETS, TrainingData
 
@@ -54,7 +55,7 @@ class TrainRun:
 
         mlflow, cfg = self.mlflow, self.params.train
         mlflow.set_tag(tracking.MODELS_DIGEST_TAG, models_digest(out))
-        mlflow.log_metrics(parent_metrics(run.summary))
+        mlflow.log_metrics(run_metrics.train(run.summary))
         for path in figures:
             mlflow.log_artifact(str(path), artifact_path="figures")
         example = data.inputs("validation")[:1]
@@ -96,31 +97,6 @@ class TrainRun:
         return run.info.run_id
 
 
-def parent_metrics(summary: dict) -> dict[str, float]:
-    """The train run's metrics: its time and each peak model's errors."""
-    out = {tracking.metric_name("time", "seconds"): summary["wall_seconds"]}
-    out.update(
-        {
-            tracking.metric_name("peak", target, model, k): v
-            for target, entry in summary["peaks"].items()
-            for model in ("gp", "gru")
-            for k, v in entry[model].items()
-        }
-    )
-    return tracking.finite(out)
-
-
-def child_metrics(result: dict) -> dict[str, float]:
-    """A model's validation metrics and best epoch."""
-    out = {
-        tracking.metric_name("validation", t, k): v
-        for t, m in result["metrics"].items()
-        for k, v in m.items()
-    }
-    out[tracking.metric_name("train", "best_epoch")] = result["history"]["best_epoch"]
-    return tracking.finite(out)
-
-
 def _log_history(mlflow, result: dict) -> None:
     """Loss per epoch as stepped metrics (``loss.train``, ``loss.validation``), in batches
     MLflow accepts."""
@@ -130,13 +106,13 @@ def _log_history(mlflow, result: dict) -> None:
     run_id = mlflow.active_run().info.run_id
     stamp = int(time.time() * 1000)
     batch = [
-        Metric(tracking.metric_name("loss", split), v, stamp, e)
+        Metric(run_metrics.metric_name("loss", split), v, stamp, e)
         for split in ("train", "validation")
         for e, v in enumerate(result["history"][split])
     ]
     for start in range(0, len(batch), 900):
         client.log_batch(run_id, metrics=batch[start : start + 900])
-    mlflow.log_metrics(child_metrics(result))
+    mlflow.log_metrics(run_metrics.train_model(result))
 
 
 def _no_grad():

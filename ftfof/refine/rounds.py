@@ -6,7 +6,8 @@ target is met and enough of the points are clean; or nothing it simulated is new
 data) or adds the new points to the training data and searches again. Its clean points are also
 candidates: the best of them (:func:`nominees_of`) join the next search's simulator check beside
 the surrogate's (docs/optimum.md). :class:`Rounds` carries what the rounds so far left, the same
-way for a round run now and for one a resumed run reads back.
+way for a round run now and for one a resumed run reads back; :class:`Round` is one round as the
+report shows it.
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ from ftfof.config import Dataset, Optimize, Refine, RefineTarget, Sample, Train
 from ftfof.data import dataset as ds
 from ftfof.data import targets
 from ftfof.data.refinement import grow, round_rows
+from ftfof.digests import json_sha256
 from ftfof.errors import SimulationError
 from ftfof.evaluate.fidelity import Fidelity, relative_error, simulated_objectives, target_met
 from ftfof.evaluate.run import Inputs, fidelity_of, from_front, judged_front
@@ -30,6 +32,7 @@ from ftfof.optimize.select import FRONT, Nominees, Outcome, SimulatorCheck, rhs_
 from ftfof.robot import RobotContext
 from ftfof.seeds import seed_for
 from ftfof.surrogate.predict import Surrogate
+from ftfof.surrogate.store import TrainingData
 from ftfof.trajectory.bezier import DECISION_NAMES, same_trajectory
 
 DIGITS = 6  # of the fidelity numbers in a round's record
@@ -71,6 +74,44 @@ class Rounds:
     def unseen(self, rows: pa.Table, base: pa.Table) -> pa.Table:
         """``rows`` that neither ``base`` nor an earlier round holds."""
         return unseen(rows, [base, *self.added])
+
+
+@dataclass
+class Round:
+    """One round as the report shows it."""
+
+    record: dict[str, Any]  # the report's entry but the seconds (kept out of data/refine)
+    target_met: bool  # the fidelity target held: nothing was added, the models were kept
+    simulated: int  # simulations run by this invocation
+    # none of its successful simulations was new to the training data (a front of known points,
+    # or every new one failed): nothing to fine-tune on, so the rounds end with the models kept
+    nothing_new: bool = False
+    seconds: float = 0.0
+
+    @property
+    def last(self) -> bool:
+        return self.target_met or self.nothing_new
+
+    def line(self, first: str) -> str:
+        """The round in one line: its fidelity on the ``first`` objective, the optimum
+        predicted and simulated, the clean share, and how it ended."""
+        r = self.record
+        f = r["fidelity"][first]
+        opt = r["optimum"]
+        return (
+            f"round {r['round']}: {self.simulated} simulated now; {first} rho {f['spearman']:.3f}, "
+            f"median relative error {100 * f['median_relative_error']:.1f} %, optimum "
+            f"{opt['predicted'][first]:.4g} predicted vs {opt['simulated'][first]:.4g} simulated; "
+            f"{100 * r['clean_fraction']:.0f} % clean; "
+            + (
+                "target met, stop"
+                if self.target_met
+                else "nothing new to learn from, stop"
+                if self.nothing_new
+                else f"{r['added']} added"
+            )
+            + f"; {self.seconds:.1f} s"
+        )
 
 
 @dataclass(frozen=True)
@@ -175,6 +216,16 @@ def nominees_of(
     return Nominees(X[ranked], [origin[i] for i in ranked])
 
 
+def refused_rows(inputs: Inputs) -> np.ndarray:
+    """The decision rows an optimum's simulator check refused."""
+    rows = [v["row"] for v in inputs.optimum["simulator_check"] if not v["ok"]]
+    return (
+        inputs.front.loc[rows, list(DECISION_NAMES)]
+        .to_numpy(float)
+        .reshape(-1, len(DECISION_NAMES))
+    )
+
+
 def unseen(rows: pa.Table, tables: list[pa.Table]) -> pa.Table:
     """``rows`` but those whose trajectory (decision values) a table already holds: a nominee
     optimum is re-simulated in the next round, and is in the training data already (the same
@@ -199,9 +250,16 @@ def training_rows(
     return round_rows(built, k)
 
 
-def grown(base: pa.Table, rounds: Rounds, rows: pa.Table) -> pa.Table:
-    """The training table with every round's rows and ``rows``."""
-    return grow(base, [*rounds.added, rows])
+def grown(data: TrainingData, rounds: Rounds, rows: pa.Table, key: str, k: int) -> TrainingData:
+    """The training data with every round's rows and round ``k``'s ``rows``, named by the data it
+    grew from, the refinement's fingerprint ``key`` and the round."""
+    return TrainingData(
+        grow(data.table, [*rounds.added, rows]),
+        data.normalization,
+        data.seq_len,
+        data.hold,
+        json_sha256({"dataset": data.metadata_digest, "refine": key, "round": k}, 16),
+    )
 
 
 def record(k: int, added: int, verdict: Verdict, names: list[str]) -> dict[str, Any]:

@@ -1,4 +1,5 @@
-"""The climb's traces (as FTFOF Fig. 14 shows its IMU): jitter, body path, pad forces, bonds."""
+"""The climb's traces (as FTFOF Fig. 14 shows its IMU): jitter, body path, pad forces, bonds;
+and the climb from the side."""
 
 from __future__ import annotations
 
@@ -10,6 +11,8 @@ import numpy as np
 from matplotlib.figure import Figure
 from numpy.typing import NDArray
 
+from ftfof.climb.outcome import Climbed
+from ftfof.climb.simulate import chain_of
 from ftfof.config import LEG_NAMES
 
 Array = NDArray[np.float64]
@@ -88,3 +91,30 @@ def climb_filmstrip(
     axes[0].legend(loc="lower right", fontsize=7)
     fig.suptitle(title)
     return fig
+
+
+def climb_traces(out: Climbed, title: str) -> Figure:
+    """:func:`climb_figure` of a measured climb, each of its steps' swings shaded."""
+    gait = out.run.gait
+    swings = [(gait.lift_off(k), gait.lift_off(k) + gait.swing) for k in range(len(out.steps))]
+    return climb_figure(out.run.channels, out.imu, swings, title)
+
+
+def side_view(out: Climbed, title: str) -> Figure:
+    """The climb from the side: each step's swing a third of the way in, and the last moment."""
+    run, spec = out.run, out.run.spec
+    chain = chain_of(spec.robot)
+    gait = run.gait
+    end = float(run.channels["t"][-1]) if run.channels["t"].size else 0.0
+    frames = [gait.lift_off(k) + gait.swing / 3 for k in range(len(out.steps))]
+    frames = [f for f in frames if f < end] + [end]
+    return climb_filmstrip(
+        run.channels,
+        frames,
+        gait.hips,
+        float(chain.hip[1]),
+        chain.links,
+        spec.robot.platform.foot.ankle_height,
+        spec.robot.foot.pad_length,
+        f"{title}: from the side",
+    )

@@ -1,8 +1,9 @@
 """The evaluation report's values and figures, from an :class:`~ftfof.evaluate.run.Evaluation`:
-what the template shows, in the template's terms."""
+what the template shows, in the template's terms; and the page itself (:func:`evaluation_page`)."""
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -16,6 +17,7 @@ from ftfof.evaluate.table import COLUMNS, PEAKS, TableRow
 from ftfof.optimize.polish import POLISH
 from ftfof.optimize.select import FRONT
 from ftfof.report.climb import climb_rows
+from ftfof.report.eps_study import eps_figure
 from ftfof.report.evaluation import (
     choice_figure,
     fidelity_figure,
@@ -23,10 +25,11 @@ from ftfof.report.evaluation import (
     jitter_figure,
     paths_figure,
 )
-from ftfof.report.html import figure_data_uri
+from ftfof.report.html import figure_data_uri, render
 from ftfof.report.summary import GLOSSARY, run_this
 from ftfof.report.summary import tables as summary_tables
 from ftfof.robot import RobotContext
+from ftfof.study.eps import EpsStudy
 
 PARETO = (
     ("optimize_star.png", "Pareto front, star coordinates (cf. FTFOF Fig. 10)"),
@@ -188,6 +191,31 @@ def report_context(
             "peak_speed": ", ".join(f"{v:.2f}" for v in export["peak_joint_speed"]),
         },
     }
+
+
+def evaluation_page(
+    ev: Evaluation,
+    ctx: RobotContext,
+    inputs: Inputs,
+    surface: str,
+    climb_steps: int,
+    stage_figures: Mapping[str, str],
+    climb_figures: Mapping[str, str],
+    eps: EpsStudy,
+    export_path: str,
+    rounds: list[dict],
+) -> str:
+    """The self-contained HTML report: :func:`report_context` with the earlier stages' and the
+    climb's figures (data URIs), the ε study, the export's path and refine's ``rounds``."""
+    values = report_context(ev, ctx, inputs, surface, ev.summary["reference"], climb_steps)
+    values["eps_study"] = ev.summary["eps_study"]
+    values["figures"] = {
+        **stage_figures,
+        **values["figures"],
+        **climb_figures,
+        "eps_study": figure_data_uri(eps_figure(eps)),
+    }
+    return render({**values, "export_path": export_path, "refine": rounds})
 
 
 def _choice_context(

@@ -6,6 +6,7 @@ these specs and each worker builds and solves its own model.
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -87,3 +88,13 @@ class Bench:
         """Any analytic trajectory over [0, T3] (the baselines), Hermite-fitted."""
         pq = PiecewiseQuintic.fit(trajectory, self.robot.timing.T3, BASELINE_SEGMENTS)
         return self.spec(source, sample_id, pq)
+
+
+def baseline_specs(
+    on: Bench, trajectories: Mapping[str, Sampled], names: Iterable[str] | None = None
+) -> list[SampleSpec]:
+    """One spec per baseline (``names`` in order; default all), keyed ``baseline:<name>``."""
+    return [
+        on.analytic(f"baseline:{n}", 0, trajectories[n])
+        for n in (trajectories if names is None else names)
+    ]

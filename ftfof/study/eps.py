@@ -25,7 +25,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ftfof.data.targets import full_rate
-from ftfof.errors import SimulationError
+from ftfof.errors import ParamsError, SimulationError
 from ftfof.sim.pool import run_all
 from ftfof.sim.spec import Bench
 from ftfof.trajectory.baselines import EpsBezier
@@ -37,6 +37,17 @@ EPSILONS = (0.0, 0.5, 1.0, 2.0, 4.0, 8.0)  # the issue's sweep
 KNEE, LAST = 4.0, 8.0
 FLAT = 0.10  # "barely": a relative change below this from KNEE to LAST
 HELD = 0.050  # s at the end of the landing hold over which the settled pre-pressure is averaged
+
+
+def parse_epsilons(text: str) -> list[float]:
+    """``0,0.5,1`` -> distinct, finite, non-negative values in increasing order."""
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        raise ParamsError("--epsilons", f"{text!r} is not comma-separated numbers") from None
+    if not all(np.isfinite(v) and v >= 0 for v in values) or len(set(values)) != len(values):
+        raise ParamsError("--epsilons", f"need distinct, finite values >= 0 (got {text})")
+    return sorted(values)
 
 
 @dataclass(frozen=True)

@@ -6,7 +6,8 @@ and so on; ``seeds=1,2,3`` re-runs the chain from train on with three search see
 data (the robustness of the answer). Each experiment sets every axis explicitly, and registers
 its surrogates under its own alias (:attr:`Experiment.alias`): the registry is shared, and an
 experiment that moved ``champion`` made the workspace's next run refuse its own models. Queuing
-them as DVC experiments is :mod:`ftfof.pipeline.sweep`.
+them as DVC experiments is :mod:`ftfof.pipeline.sweep`; the queue's arguments and the reading of
+its status are here (:func:`queue_args`, :func:`unfinished`, :func:`failed`).
 """
 
 from __future__ import annotations
@@ -87,6 +88,33 @@ def plan(axes: Mapping[str, Sequence[str]], prefix: str = "") -> list[Experiment
             dict(zip(keys, values, strict=True)),
         )
         for values in itertools.product(*(axes[k] for k in keys))
+    ]
+
+
+def queue_args(experiment: Experiment) -> list[str]:
+    """Arguments of ``dvc`` that queue ``experiment``."""
+    sets = [arg for key, value in experiment.params.items() for arg in ("-S", f"{key}={value}")]
+    return ["exp", "run", "--queue", "-n", experiment.name, *sets]
+
+
+def unfinished(status_text: str, names: Sequence[str]) -> list[str]:
+    """The experiments of ``names`` that ``dvc queue status`` still shows queued or running."""
+    pending = []
+    for line in status_text.splitlines():
+        words = line.split()
+        if any(name in words for name in names) and {"Queued", "Running"} & set(words):
+            pending.append(next(n for n in names if n in words))
+    return pending
+
+
+def failed(status_text: str, names: Sequence[str]) -> list[str]:
+    """The experiments of ``names`` that ``dvc queue status`` shows as failed."""
+    return [
+        n
+        for line in status_text.splitlines()
+        if "Failed" in line.split()
+        for n in names
+        if n in line.split()
     ]
 
 

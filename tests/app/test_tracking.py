@@ -2,15 +2,12 @@
 
 from __future__ import annotations
 
-import json
-import math
-import re
 from pathlib import Path
 from types import SimpleNamespace
 
 import pytest
 
-from ftfof.pipeline import catalog, tracking
+from ftfof.pipeline import tracking
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -79,38 +76,3 @@ def test_every_run_logs_its_settings_the_robot_and_the_seeds(params):
     assert logged["robot"] == params.robot and logged["surface"] == params.surface
     assert logged["base.seed"] == str(params.base.seed)
     assert logged["base.search_seed"] == str(params.search_seed)
-
-
-SCHEME = re.compile(r"^[a-z][a-z0-9_]*(\.[A-Za-z0-9_]+)+$")  # docs/user-guide.md
-
-
-def test_metric_names_are_scope_dot_name():
-    assert tracking.metric_name("fidelity", "fs1", "spearman") == "fidelity.fs1.spearman"
-    assert tracking.metric_name("table", "front 22", "peak_pull") == "table.front_22.peak_pull"
-    with pytest.raises(ValueError, match="lowercase"):
-        tracking.metric_name("Optimum", "fs1")
-    with pytest.raises(ValueError, match="no name"):
-        tracking.metric_name("time")
-
-
-def test_every_stage_names_its_metrics_by_the_scheme_and_drops_nan():
-    """The metrics each stage's run logs, built from the committed paper-scale reports."""
-    from ftfof.pipeline import evaluate, optimize, polish, refine_run, training
-
-    def report(name):
-        return json.loads((ROOT / catalog.path(name)).read_text())
-
-    train = report("train_metrics")
-    first_round = report("refine_report")["rounds"][0]
-    logged = {
-        **training.parent_metrics(train),
-        **optimize.run_metrics(report("optimize_metrics")),
-        **refine_run.round_metrics(first_round),
-        **polish.run_metrics(report("polish_report")),
-        **evaluate.run_metrics(report("metrics")),
-    }
-    assert len(logged) > 100
-    assert all(SCHEME.match(name) for name in logged), [n for n in logged if not SCHEME.match(n)]
-    assert all(math.isfinite(v) for v in logged.values())
-    assert {"time.seconds", "optimum.simulated.fs1", "table.optimum.jitter_change"} <= set(logged)
-    assert tracking.finite({"a.b": float("nan"), "a.c": 1}) == {"a.c": 1.0}

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from ftfof.climb.model import ClimbSpec
 from ftfof.config import Params
+from ftfof.evaluate.pick import Source
 from ftfof.pipeline.climb import climb_spec
-from ftfof.pipeline.export import Source
 from tests.conftest import ROOT
 
 

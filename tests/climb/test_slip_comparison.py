@@ -5,21 +5,22 @@ from __future__ import annotations
 import pytest
 
 import ftfof.pipeline.climb as climbs
+from ftfof.climb.outcome import CONTROLLERS
 from ftfof.climb.surface import SurfaceSwitch
 from ftfof.config import LEG_NAMES
+from ftfof.config.validate import parse_params
 from ftfof.errors import ParamsError
 from ftfof.pipeline.bench import baseline_trajectories, context_of
-from ftfof.pipeline.evaluate import run_metrics
-from ftfof.pipeline.params_file import parse_params
+from ftfof.report import run_metrics
 
 
 def test_the_comparison_climbs_the_scenario_once_per_controller(params, tmp_path, monkeypatch):
     seen = []
 
-    def compare(params_, spec, out_dir, title):
+    def compare(spec, out_dir, title):
         seen.append(spec)
         row = {"slip_distance": 2e-3, "max_slip_velocity": 7e-3, "fell": False, "fall": ""}
-        return {c: {**row, "steps_done": 8} for c in climbs.CONTROLLERS}
+        return {c: {**row, "steps_done": 8} for c in CONTROLLERS}
 
     monkeypatch.setattr(climbs, "compare_controllers", compare)
     ctx = context_of(params)
@@ -29,9 +30,9 @@ def test_the_comparison_climbs_the_scenario_once_per_controller(params, tmp_path
     (spec,) = seen
     switch = SurfaceSwitch(LEG_NAMES.index("FL"), 4.0, params.surfaces["painted_wall"])
     assert spec.switch == switch and spec.name == "slip_eps_bezier"
-    assert set(table) == set(climbs.CONTROLLERS)
+    assert set(table) == set(CONTROLLERS)
     assert table["both"] == {"slip_distance": 2e-3, "max_slip_velocity": 7e-3, "fell": False}
-    metrics = run_metrics({"table": {}, "fidelity": {}, "slip": table, "seconds": 1.0})
+    metrics = run_metrics.evaluate({"table": {}, "fidelity": {}, "slip": table, "seconds": 1.0})
     assert metrics["slip.both.slip_distance"] == 2e-3 and metrics["slip.none.fell"] == 0.0
 
 

@@ -10,8 +10,8 @@ import pytest
 from ftfof.climb.simulate import climb
 from ftfof.climb.surface import SurfaceSwitch
 from ftfof.config import LEG_NAMES
+from ftfof.config.validate import parse_params
 from ftfof.errors import ParamsError
-from ftfof.pipeline.params_file import parse_params
 from tests.climb.helpers import spec_of
 
 

@@ -77,3 +77,28 @@ def test_an_acquisition_without_the_film_channels_masks_their_targets():
     film = [dataset.TARGETS.index(name) for name in ("curvature", "clearance")]
     assert np.isnan(y[..., film]).all() and np.isfinite(np.delete(y, film, axis=-1)).all()
     assert all(norm.target_scale[k] == 1.0 for k in film)
+
+
+def test_assembled_tables_carry_their_provenance_and_a_sample_in_two_is_refused():
+    import json
+
+    from ftfof.errors import DataError
+
+    acquired = fake_acquisition(n=12, failed=1)
+    cfg = config.Dataset(seq_len=32)
+    provenance = {"robot": "mst_m3f", "params_hash": "abc"}
+    table, summary = dataset.assemble([acquired], cfg, 3, 0.6, provenance)
+    alone, norm = dataset.build(acquired, cfg, seed=3, landing_start=0.6)
+    assert table.column_names == alone.column_names and table.num_rows == alone.num_rows
+    assert table.column("split").to_pylist() == alone.column("split").to_pylist()
+    meta = json.loads(table.schema.metadata[dataset.METADATA_KEY])
+    assert meta == {
+        **provenance,
+        "seq_len": 32,
+        "hold": cfg.hold,
+        "normalization": meta["normalization"],
+    }
+    assert meta["normalization"] == summary["normalization"] == json.loads(norm.to_json())
+    assert summary["samples"] == 14 and summary["excluded_failed"] == 1
+    with pytest.raises(DataError, match="sample 'sampled:0' appears twice"):
+        dataset.assemble([acquired, acquired.slice(0, 1)], cfg, 3, 0.6, provenance)

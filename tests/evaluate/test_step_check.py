@@ -49,7 +49,8 @@ def test_without_the_reference_at_both_steps_nothing_is_compared():
 
 def test_the_check_runs_at_one_step_throughout_under_its_own_key(params):
     from ftfof.evaluate.specs import with_step
-    from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, context_of
+    from ftfof.pipeline.bench import baseline_trajectories, bench, context_of
+    from ftfof.sim.spec import baseline_specs
 
     ctx = context_of(params)
     (spec,) = baseline_specs(bench(params, ctx), baseline_trajectories(params, ctx), ["polynomial"])

@@ -10,6 +10,7 @@ from ftfof.optimize.select import (
     Nominees,
     Verdict,
     convergence_csv,
+    missing_fields,
     resolution,
     rhs_ranking,
     verified_rhs,
@@ -185,3 +186,10 @@ def test_nominated_rows_are_simulated_beside_the_candidates_and_can_win():
 def test_nominees_need_an_origin_per_row():
     with pytest.raises(ValueError, match="2 nominee rows but 1 origins"):
         Nominees(np.zeros((2, 12)), ["refine:1"])
+
+
+def test_the_fields_a_record_lacks_are_named_by_their_dotted_path():
+    record = {"robot": "mst_m3f", "rhs": {"rows": [1, 2], "steps": None}, "origin": "front"}
+    fields = ("robot", "rhs.rows", "rhs.steps", "rhs.alpha", "decision", "origin.kind")
+    assert missing_fields(record, fields) == ["rhs.alpha", "decision", "origin.kind"]
+    assert missing_fields(record, ()) == []

@@ -12,12 +12,14 @@ from ftfof.evaluate.runs import OPTIMUM
 from ftfof.optimize.select import rhs_ranking
 from ftfof.refine.rounds import (
     Measured,
+    Round,
     Rounds,
     Verdict,
     fine_tuning,
     nominees_of,
     nothing_new,
     record,
+    refused_rows,
     round_target_met,
     successful,
 )
@@ -111,3 +113,63 @@ def test_a_rounds_record_names_each_objective_and_rounds_its_numbers():
     assert entry["optimum"]["predicted"] == {"fs1": 6.123457, "fsj": 1.0}
     assert set(entry["fidelity"]) == {"fs1", "fsj"}
     assert entry["fidelity"]["fs1"]["spearman"] == pytest.approx(1.0)
+
+
+def _round(**changes) -> Round:
+    record = {
+        "round": 2,
+        "added": 31,
+        "clean_fraction": 0.84,
+        "fidelity": {"fs1": {"spearman": 0.91234, "median_relative_error": 0.0456}},
+        "optimum": {"predicted": {"fs1": 6.94321}, "simulated": {"fs1": 7.0123}},
+    }
+    return Round(record, **{"target_met": False, "simulated": 50, "seconds": 12.34, **changes})
+
+
+def test_a_round_in_one_line_says_how_it_ended():
+    line = _round().line("fs1")
+    assert line == (
+        "round 2: 50 simulated now; fs1 rho 0.912, median relative error 4.6 %, optimum 6.943 "
+        "predicted vs 7.012 simulated; 84 % clean; 31 added; 12.3 s"
+    )
+    assert not _round().last
+    met, known = _round(target_met=True), _round(nothing_new=True)
+    assert met.last and "; target met, stop; " in met.line("fs1")
+    assert known.last and "; nothing new to learn from, stop; " in known.line("fs1")
+
+
+def test_the_rows_an_optimums_check_refused():
+    import pandas as pd
+
+    from ftfof.evaluate.run import Inputs
+
+    front = pd.DataFrame(
+        np.arange(3 * len(DECISION_NAMES), dtype=float).reshape(3, -1),
+        columns=list(DECISION_NAMES),
+        index=pd.Index([4, 7, 9], name="row"),
+    )
+    checks = [{"row": 7, "ok": False}, {"row": 4, "ok": True}, {"row": 9, "ok": False}]
+    inputs = Inputs({"simulator_check": checks}, front, ["fs1"], "d")
+    np.testing.assert_array_equal(refused_rows(inputs), front.loc[[7, 9]].to_numpy())
+    none = Inputs({"simulator_check": checks[1:2]}, front, ["fs1"], "d")
+    assert refused_rows(none).shape == (0, len(DECISION_NAMES))
+
+
+def test_the_grown_data_holds_every_rounds_rows_and_is_named_by_round():
+    from ftfof import config
+    from ftfof.data import dataset
+    from ftfof.data.refinement import round_rows
+    from ftfof.digests import json_sha256
+    from ftfof.refine.rounds import grown
+    from ftfof.surrogate.store import TrainingData
+    from tests.data.fake import fake_acquisition
+
+    built, norm = dataset.build(fake_acquisition(n=8, failed=0), config.Dataset(seq_len=16), 3)
+    data = TrainingData(built, norm, 16, 0.1, "d0")
+    sampled = built.filter(pa.compute.equal(built.column("source"), "sampled"))
+    first, second = round_rows(sampled.slice(0, 3), 1), round_rows(sampled.slice(3, 2), 2)
+    out = grown(data, Rounds(added=[first]), second, "key", 2)
+    assert out.table.num_rows == built.num_rows + 5
+    assert out.table.column("key").to_pylist()[-2:] == ["refine:2:3", "refine:2:4"]
+    assert (out.normalization, out.seq_len, out.hold) == (norm, 16, 0.1)
+    assert out.metadata_digest == json_sha256({"dataset": "d0", "refine": "key", "round": 2}, 16)

@@ -118,3 +118,33 @@ def test_ftfof_calibrate_simulates_the_polynomial_and_the_cycloid_only(monkeypat
     # G held above the film's cap by hand: the report says so beside the value
     report = calibration.fit_surface(params, "none", 4, {"fracture_energy": 200.0})
     assert report["active"] == {"fracture_energy": "fixed above the fracture-energy cap"}
+
+
+def test_the_fit_report_names_the_films_cap_and_a_value_held_above_it(monkeypatch, params):
+    from ftfof.sim import film
+
+    monkeypatch.setattr(cal, "run_all", _model(TRUE["strength"], TRUE["fracture_energy"]))
+    robot = params.selected_robot
+    start = params.surfaces["acrylic"].model_copy(update={**START, "fracture_energy": 1e4})
+    report = cal.surface_fit(
+        robot,
+        start,
+        lambda trial: [(name, trial) for name in cal.TABLE_I],
+        {"strength": (5e3, 1e5)},
+        {"fracture_energy": 1e4},
+        0,
+        40,
+    )
+    assert list(report) == [
+        "targets", "values", "fixed", "bounds", "fracture_energy_cap", "active", "residuals",
+        "measured", "worst_relative_error", "film", "evaluations", "history",
+    ]  # fmt: skip
+    f = robot.platform.film
+    cap = film.survival_energy(f.bending_stiffness, f.width, robot.foot.film_min_bend_radius)
+    assert report["fracture_energy_cap"] == cap < 1e4
+    assert report["active"]["fracture_energy"] == "fixed above the fracture-energy cap"
+    assert report["bounds"] == {"strength": [5e3, 1e5]} and report["fixed"] == {
+        "fracture_energy": 1e4
+    }
+    assert report["film"]["fc"] == robot.foot.film_min_bend_radius
+    assert report["evaluations"] == len(report["history"]) <= 40

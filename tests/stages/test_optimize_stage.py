@@ -9,7 +9,8 @@ import pytest
 from typer.testing import CliRunner
 
 from ftfof.config import Params
-from ftfof.pipeline.artefacts import EVALUATE_READS, missing_fields
+from ftfof.optimize.select import missing_fields
+from ftfof.pipeline.artefacts import EVALUATE_READS
 from ftfof.pipeline.bench import context_of
 from ftfof.sim.film import film_limit
 from ftfof.trajectory.bezier import DECISION_NAMES

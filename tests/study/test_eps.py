@@ -5,8 +5,7 @@ import numpy as np
 import pytest
 
 from ftfof.errors import ParamsError
-from ftfof.pipeline.study import parse_epsilons
-from ftfof.study.eps import EpsPoint, landing_rate, swept, trend
+from ftfof.study.eps import EpsPoint, landing_rate, parse_epsilons, swept, trend
 from ftfof.trajectory.baselines import EpsBezier
 
 POINTS = np.array([[0.0, 0.0], [0.01, 0.04], [0.05, 0.04], [0.06, 0.0]])

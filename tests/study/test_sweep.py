@@ -1,9 +1,18 @@
-"""Sweeps: axes parsed strictly, the product planned with every setting named, the key columns."""
+"""Sweeps: axes parsed strictly, the product planned with every setting named, the queue's
+command and status, the key columns."""
 
 import pytest
 
 from ftfof.errors import ParamsError
-from ftfof.study.sweep import check_presets, key_columns, parse_axes, plan
+from ftfof.study.sweep import (
+    check_presets,
+    failed,
+    key_columns,
+    parse_axes,
+    plan,
+    queue_args,
+    unfinished,
+)
 
 
 def test_the_product_names_every_setting_in_every_experiment():
@@ -102,3 +111,28 @@ def test_a_finished_sweep_prints_its_key_columns_only():
     )
     assert table[3].startswith("| s-mst_q-glass | mst_q | glass | 7 | polynomial | 6.5 (-4.0 %)")
     assert len(table) == 4 and all(len(line) < 200 for line in table)
+
+
+def test_an_experiment_is_queued_with_every_setting_and_its_alias():
+    experiments = plan(parse_axes(["robots=mst_m3f,mst_q", "surfaces=acrylic,glass"]), "s1-")
+    assert queue_args(experiments[3]) == [
+        "exp", "run", "--queue", "-n", "s1-mst_q-glass", "-S", "robot=mst_q", "-S", "surface=glass",
+        "-S", "train.alias=exp-s1-mst_q-glass",
+    ]  # fmt: skip
+    (seed,) = plan(parse_axes(["seeds=2"]))
+    assert queue_args(seed)[-4:-2] == ["-S", "base.search_seed=2"]
+
+
+STATUS = """Task     Name          Created    Status
+0a1b2c3  mst_q-glass   10:02 AM   Running
+4d5e6f7  mst_m3f-glass 10:02 AM   Queued
+8a9b0c1  other         09:00 AM   Failed
+2d3e4f5  mst_q-acryl   10:02 AM   Failed
+Worker status: 1 active, 0 idle
+"""
+
+
+def test_queue_status_is_read_for_the_sweeps_own_experiments_only():
+    names = ["mst_q-glass", "mst_m3f-glass", "mst_q-acryl"]
+    assert unfinished(STATUS, names) == ["mst_q-glass", "mst_m3f-glass"]
+    assert failed(STATUS, names) == ["mst_q-acryl"]

@@ -1,8 +1,9 @@
-"""Bench and baselines built one way."""
+"""The baselines' specs on a bench."""
 
 from __future__ import annotations
 
-from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench
+from ftfof.pipeline.bench import baseline_trajectories, bench
+from ftfof.sim.spec import baseline_specs
 
 
 def test_baseline_specs_key_every_baseline_in_the_order_asked(params, m3f):

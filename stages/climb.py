@@ -77,8 +77,9 @@ def command(
         for key, row in compare(spec, out_dir, title).items():
             fell = f"FELL: {row['fall']}" if row["fell"] else "climbed"
             console.print(
-                f"  {key:8s} slip {1e3 * row['slip_distance']:8.3f} mm, peak"
-                f" {1e3 * row['max_slip_velocity']:7.2f} mm/s, {fell} ({row['wall_time_s']:.0f} s)"
+                f"  {key:8s} slip {1e3 * row['slip_distance']:7.3f} mm (path"
+                f" {1e3 * row['slip_path']:7.3f} mm), peak {1e3 * row['max_slip_velocity']:7.2f}"
+                f" mm/s, {fell} ({row['wall_time_s']:.0f} s)"
             )
         return
     out = run_climb(spec)

@@ -139,11 +139,12 @@ def document(out: Climbed) -> dict[str, Any]:
 
 
 def controller_row(out: Climbed) -> dict[str, Any]:
-    """One controller's row of a comparison: its slip_distance, max_slip_velocity, fell, fall,
-    steps_done, what it did and the wall time."""
+    """One controller's row of a comparison: its slip_distance, slip_path, max_slip_velocity,
+    fell, fall, steps_done, what it did and the wall time."""
     s = out.summary
     return {
         "slip_distance": plain(s["slip_distance"]),
+        "slip_path": plain(s["slip_path"]),
         "max_slip_velocity": plain(s["max_slip_velocity"]),
         "fell": out.run.fell,
         "fall": out.run.fall_reason,

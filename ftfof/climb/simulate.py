@@ -133,6 +133,10 @@ def climb(
         error = f"{type(err).__name__}: {lines[-1] if lines else err}"
     if not error and loop.stopped:
         error = f"stopped early: {loop.stopped}"
+    if control is not None:
+        # Exudyn keeps the system, and through the loop this controller, to the interpreter's
+        # end, where nanobind reports each live proxsuite QP as a leak: release it now
+        control.distributor.reset()
     rows = loop.rows[: loop.count]
     channels = {name: rows[:, sl] for name, sl in channel_slices().items()}
     channels["t"] = channels["t"][:, 0]

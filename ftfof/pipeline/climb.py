@@ -149,8 +149,8 @@ def write_climb(out: Climbed, out_dir: Path, title: str) -> dict[str, Path]:
 def compare_controllers(spec: ClimbSpec, out_dir: Path, title: str) -> dict[str, dict[str, Any]]:
     """``spec``'s climb (its surface change included) under each of CONTROLLERS, one after the
     other, each written as ``<name>.<controller>.*``; returns and writes
-    ``<name>.controllers.json``: per controller its slip_distance, max_slip_velocity, fell and
-    the wall time."""
+    ``<name>.controllers.json``: per controller its slip_distance, slip_path, max_slip_velocity,
+    fell and the wall time."""
     table: dict[str, dict[str, Any]] = {}
     for controller in CONTROLLERS:
         climb_ = spec.climb.model_copy(update={"controller": controller})
@@ -166,7 +166,8 @@ def slip_comparison(
     params: Params, ctx: RobotContext, trajectory: Sampled, out_dir: Path
 ) -> dict[str, dict[str, Any]]:
     """``evaluate.slip_scenario``'s climb under each controller (:func:`compare_controllers`,
-    its files in ``out_dir``): per controller its slip_distance, max_slip_velocity and fell."""
+    its files in ``out_dir``): per controller its slip_distance, slip_path, max_slip_velocity and
+    fell."""
     scenario = params.evaluate.slip_scenario
     change = SurfaceChange(foot=scenario.foot, time=scenario.time, surface=scenario.surface)
     climb_ = params.climb.model_copy(update={"surface_change": change})
@@ -178,5 +179,5 @@ def slip_comparison(
         f" {scenario.surface} at {scenario.time:g} s"
     )
     table = compare_controllers(spec, out_dir, title)
-    keys = ("slip_distance", "max_slip_velocity", "fell")
+    keys = ("slip_distance", "slip_path", "max_slip_velocity", "fell")
     return {controller: {k: row[k] for k in keys} for controller, row in table.items()}

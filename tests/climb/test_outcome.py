@@ -62,9 +62,9 @@ def _climbed(fell: bool) -> Climbed:
         wall_time=12.34567,
         control={"slipping": 2},
     )
-    summary = {"slip_distance": np.float64(2e-3), "max_slip_velocity": 7e-3,
+    summary = {"slip_distance": np.float64(2e-3), "slip_path": 6e-3, "max_slip_velocity": 7e-3,
                "steps_done": np.float64(3.0), "jitter": math.nan, "fell": fell}  # fmt: skip
-    slip = SlipTotals(np.full(4, 5e-4), np.array([7e-3, 1e-3, 0.0, 2e-3]))
+    slip = SlipTotals(np.full(4, 5e-4), np.full(4, 1.5e-3), np.array([7e-3, 1e-3, 0.0, 2e-3]))
     return Climbed("eps_bezier.both", run, {}, [], summary, slip)  # type: ignore[arg-type]
 
 
@@ -80,6 +80,7 @@ def test_a_controllers_row():
     row = outcome.controller_row(_climbed(fell=False))
     assert row == {
         "slip_distance": 2e-3,
+        "slip_path": 6e-3,
         "max_slip_velocity": 7e-3,
         "fell": False,
         "fall": "",

@@ -19,7 +19,8 @@ def test_the_comparison_climbs_the_scenario_once_per_controller(params, tmp_path
 
     def compare(spec, out_dir, title):
         seen.append(spec)
-        row = {"slip_distance": 2e-3, "max_slip_velocity": 7e-3, "fell": False, "fall": ""}
+        row = {"slip_distance": 2e-3, "slip_path": 5e-3, "max_slip_velocity": 7e-3}
+        row |= {"fell": False, "fall": ""}
         return {c: {**row, "steps_done": 8} for c in CONTROLLERS}
 
     monkeypatch.setattr(climbs, "compare_controllers", compare)
@@ -28,10 +29,12 @@ def test_the_comparison_climbs_the_scenario_once_per_controller(params, tmp_path
     trajectory = baseline_trajectories(params, ctx)[scenario.trajectory]
     table = climbs.slip_comparison(params, ctx, trajectory, tmp_path)
     (spec,) = seen
-    switch = SurfaceSwitch(LEG_NAMES.index("FL"), 4.0, params.surfaces["painted_wall"])
+    foot = LEG_NAMES.index(scenario.foot)
+    switch = SurfaceSwitch(foot, scenario.time, params.surfaces[scenario.surface])
     assert spec.switch == switch and spec.name == "slip_eps_bezier"
     assert set(table) == set(CONTROLLERS)
-    assert table["both"] == {"slip_distance": 2e-3, "max_slip_velocity": 7e-3, "fell": False}
+    figures = {"slip_distance": 2e-3, "slip_path": 5e-3, "max_slip_velocity": 7e-3}
+    assert table["both"] == {**figures, "fell": False}
     metrics = run_metrics.evaluate({"table": {}, "fidelity": {}, "slip": table, "seconds": 1.0})
     assert metrics["slip.both.slip_distance"] == 2e-3 and metrics["slip.none.fell"] == 0.0
 

@@ -105,6 +105,8 @@ class FeedForward:
         self.weights = np.tile(NOMINAL_WEIGHTS, (len(self.pads.friction), 1))
         self.believed = Pads(*(np.array(a, dtype=float) for a in astuple(self.pads)))
         self.trim = np.zeros((len(self.pads.friction), 2))
+        self.held_rate = np.zeros(len(self.pads.friction))  # each foot's slip rate held this phase
+        self.phase = np.zeros(len(self.pads.friction), dtype=bool)  # the stance it belongs to
 
     def step(
         self,
@@ -126,9 +128,7 @@ class FeedForward:
         self.counts.slips += int(np.count_nonzero(slipping & ~was))
         weights = self.weights
         if self.mode in ("weights", "both"):
-            weights = adapt_weights(
-                weights, slip_rate(slip_velocity, SLIP_THRESHOLD, SLIP_SPAN) * slipping
-            )
+            weights = adapt_weights(weights, self._hold_rate(slip_velocity, slipping, stance))
         new_plan = None
         if self.mode in ("replan", "both"):
             for foot in np.flatnonzero(slipping & ~was):
@@ -146,6 +146,19 @@ class FeedForward:
         force = result.forces + self._trim(on, result.forces, forces, dt)
         out[on] = -np.einsum("nij,ni->nj", qp.jacobian, force)
         return out, new_plan
+
+    def _hold_rate(self, slip_velocity: Array, slipping: Array, stance: Array) -> Array:
+        """Each foot's slip rate, held at its highest since the stance last changed: the
+        paper's weights stay adapted through the phase once a slip has stopped, and start anew
+        with each phase (climbing_slip §6.3: the weight-only controller slips again at the next
+        phase for that reason)."""
+        stance = np.asarray(stance, dtype=bool)
+        if not np.array_equal(stance, self.phase):
+            self.held_rate = np.zeros_like(self.held_rate)
+            self.phase = stance.copy()
+        rate = slip_rate(slip_velocity, SLIP_THRESHOLD, SLIP_SPAN) * slipping
+        self.held_rate = np.maximum(self.held_rate, rate)
+        return self.held_rate
 
     def _trim(self, on: Array, wanted: Array, forces: ForceWindow, dt: float) -> Array:
         """The stance feet's force trims, integrating what the pads miss of the QP's forces.

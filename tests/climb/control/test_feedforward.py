@@ -38,7 +38,8 @@ def _window(leg):
     return fn, 0.3 * (fn + 5.0)  # a pad of mu 0.3, F_adh 5 N
 
 
-def _run(controller, chain, velocity, steps, window=_window):
+def _run(controller, chain, velocity, steps, window=_window, stance=None):
+    stance = np.ones(4, dtype=bool) if stance is None else stance
     theta = chain.leg.inverse(np.stack([STROKE, np.zeros(4)], axis=1))
     spacing = 0.2
     feet = STROKE + np.array([spacing, spacing, -spacing, -spacing]) / 2 - chain.hip[0]
@@ -51,7 +52,7 @@ def _run(controller, chain, velocity, steps, window=_window):
             _plan,
             theta,
             feet,
-            np.ones(4, dtype=bool),
+            stance,
             velocity,
             window,
         )
@@ -87,6 +88,21 @@ def test_weights_alone_neither_estimates_nor_replans(m3f):
     steps = round(SLIP_HOLD * CONTROL_RATE_HZ) + 2
     _run(controller, chain, SLIDING, steps)
     assert controller.counts.slips == 1 and controller.counts.estimates == 0
+
+
+def test_adapted_weights_hold_through_the_phase_after_the_slip_stops_and_reset_with_it(m3f):
+    controller, chain = _controller(m3f, "weights")
+    steps = round(SLIP_HOLD * CONTROL_RATE_HZ) + 2
+    _run(controller, chain, SLIDING, steps)
+    rate = controller.held_rate.copy()
+    assert rate[1] > 0 and rate[[0, 2, 3]].sum() == 0
+    sliding_torques, _ = _run(controller, chain, np.zeros(4), 1)
+    assert controller.held_rate[1] == rate[1]  # the slide stopped: the weights stay adapted
+    nominal, _ = _run(_controller(m3f, "weights")[0], chain, np.zeros(4), 1)
+    assert not np.allclose(sliding_torques, nominal)
+    lifted = np.array([True, True, True, False])  # HR lifts: a new phase
+    _run(controller, chain, np.zeros(4), 1, stance=lifted)
+    assert controller.held_rate.sum() == 0
 
 
 def test_replan_believes_what_a_peeling_pad_still_holds_where_its_mu_fit_is_negative(m3f):

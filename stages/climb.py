@@ -74,7 +74,7 @@ def command(
     name, spec = climb_spec(params, source, optimize, allow_infeasible)
     title = f"{params.robot} on {params.surface}: {name}"
     if compare_controllers:
-        for key, row in compare(spec, out_dir, title).items():
+        for key, row in compare(spec, out_dir, title, params.acquire.workers).items():
             fell = f"FELL: {row['fall']}" if row["fell"] else "climbed"
             console.print(
                 f"  {key:8s} slip {1e3 * row['slip_distance']:7.3f} mm (path"

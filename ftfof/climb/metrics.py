@@ -225,15 +225,23 @@ def slip_totals(c: dict[str, Array]) -> SlipTotals:
     peak = np.abs(v).max(axis=0, initial=0.0)
     if t.size < 2:
         return SlipTotals(np.zeros(LEGS), np.zeros(LEGS), peak)
-    distance = np.array([sum(_excursions(t, v[:, leg])) for leg in range(v.shape[1])])
+    distance = np.zeros(v.shape[1])
+    for leg in range(v.shape[1]):
+        travel = np.abs(stance_travel(t, v[:, leg]))
+        distance[leg] = sum(travel[a:b].max() for a, b in _stances(v[:, leg]))
     return SlipTotals(distance, np.trapezoid(np.abs(v), t, axis=0), peak)
 
 
-def _excursions(t: Array, v: Array) -> list[float]:
-    """Each stance's (run of nonzero ``v``) largest distance from where it began, m."""
-    edges = np.flatnonzero(np.diff(np.r_[0, v != 0, 0]))
-    out = []
-    for a, b in zip(edges[::2], edges[1::2], strict=True):
-        moved = np.cumsum(np.diff(t[a:b]) * (v[a + 1 : b] + v[a : b - 1]) / 2)
-        out.append(float(np.abs(moved).max(initial=0.0)))
+def stance_travel(t: Array, v: Array) -> Array:
+    """One pad's displacement along its patch since its stance began, per record (m; 0 off the
+    stance), from its slip velocity ``v``."""
+    out = np.zeros_like(v, dtype=float)
+    for a, b in _stances(v):
+        out[a + 1 : b] = np.cumsum(np.diff(t[a:b]) * (v[a + 1 : b] + v[a : b - 1]) / 2)
     return out
+
+
+def _stances(v: Array) -> list[tuple[int, int]]:
+    """The [start, end) record spans where ``v`` is not 0: one pad's stances."""
+    edges = np.flatnonzero(np.diff(np.r_[0, v != 0, 0]))
+    return list(zip(edges[::2].tolist(), edges[1::2].tolist(), strict=True))

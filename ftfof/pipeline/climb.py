@@ -6,6 +6,7 @@ import json
 import multiprocessing
 import os
 import signal
+from collections.abc import Iterator
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import replace
 from pathlib import Path
@@ -14,6 +15,7 @@ from typing import Any
 import numpy as np
 import pyarrow as pa
 
+from ftfof.climb.metrics import slip_totals
 from ftfof.climb.model import ClimbSpec
 from ftfof.climb.outcome import (
     CONTROLLERS,
@@ -27,7 +29,7 @@ from ftfof.climb.outcome import (
 from ftfof.climb.simulate import gait_of
 from ftfof.climb.surface import switch_of
 from ftfof.config import Params
-from ftfof.config.stages import SurfaceChange
+from ftfof.config.stages import SlipScenario, SurfaceChange
 from ftfof.digests import json_sha256
 from ftfof.errors import ParamsError
 from ftfof.evaluate.pick import Source
@@ -35,7 +37,7 @@ from ftfof.files import atomic_path, save_figure, write_json, write_parquet
 from ftfof.pipeline.bench import bench, context_of
 from ftfof.pipeline.export import trajectory_of
 from ftfof.pipeline.jobs import MANIFEST, open_resumable, source
-from ftfof.report.climb_figure import climb_traces, side_view
+from ftfof.report.climb_figure import climb_traces, side_view, slip_comparison_figure
 from ftfof.robot import RobotContext
 from ftfof.seeds import seed_for
 from ftfof.sim.spec import BASELINE_SEGMENTS
@@ -97,18 +99,23 @@ def climb_all(
     }
     key = open_resumable(out_dir, identity)
     done = {n: read_document(out_dir, n) for n in specs if (out_dir / f"{n}.json").exists()}
-    todo = [n for n in specs if n not in done]
-    workers = min(workers or os.cpu_count() or 1, max(len(todo), 1))
+    todo = {n: specs[n] for n in specs if n not in done}
+    for name, out in _climbed(todo, workers):
+        write_climb(out, out_dir, f"{params.robot} on {params.surface}: {name}")
+        done[name] = read_document(out_dir, name)
+    write_json(out_dir / MANIFEST, {"fingerprint": key, "complete": True, "source": source()})
+    return {n: done[n] for n in specs}
+
+
+def _climbed(specs: dict[str, ClimbSpec], workers: int) -> Iterator[tuple[str, Climbed]]:
+    """Each spec's climb as it finishes, in a pool of ``workers`` (0: all cores)."""
+    workers = min(workers or os.cpu_count() or 1, max(len(specs), 1))
     with ProcessPoolExecutor(
         workers, mp_context=multiprocessing.get_context("fork"), initializer=_ignore_interrupts
     ) as pool:
-        futures = {pool.submit(run_climb, specs[n]): n for n in todo}
+        futures = {pool.submit(run_climb, spec): name for name, spec in specs.items()}
         for future in as_completed(futures):
-            name = futures[future]
-            write_climb(future.result(), out_dir, f"{params.robot} on {params.surface}: {name}")
-            done[name] = read_document(out_dir, name)
-    write_json(out_dir / MANIFEST, {"fingerprint": key, "complete": True, "source": source()})
-    return {n: done[n] for n in specs}
+            yield futures[future], future.result()
 
 
 def read_document(out_dir: Path, name: str) -> dict[str, Any]:
@@ -146,38 +153,67 @@ def write_climb(out: Climbed, out_dir: Path, title: str) -> dict[str, Path]:
     return paths
 
 
-def compare_controllers(spec: ClimbSpec, out_dir: Path, title: str) -> dict[str, dict[str, Any]]:
-    """``spec``'s climb (its surface change included) under each of CONTROLLERS, one after the
-    other, each written as ``<name>.<controller>.*``; returns and writes
+def compare_controllers(
+    spec: ClimbSpec, out_dir: Path, title: str, workers: int = 0
+) -> dict[str, dict[str, Any]]:
+    """``spec``'s climb (its surface change included) under each of CONTROLLERS, in a pool of
+    ``workers`` (0: all cores), each written as ``<name>.<controller>.*``; returns and writes
     ``<name>.controllers.json``: per controller its slip_distance, slip_path, max_slip_velocity,
-    fell and the wall time."""
-    table: dict[str, dict[str, Any]] = {}
-    for controller in CONTROLLERS:
-        climb_ = spec.climb.model_copy(update={"controller": controller})
-        name = f"{spec.name}.{controller}"
-        out = run_climb(replace(spec, name=name, climb=climb_))
+    fell and the wall time; ``<name>.controllers.png``: the changed foot's slip under each (the
+    foot that slipped most under ``none`` without a surface change)."""
+    specs = {
+        c: replace(
+            spec, name=f"{spec.name}.{c}", climb=spec.climb.model_copy(update={"controller": c})
+        )
+        for c in CONTROLLERS
+    }
+    rows: dict[str, dict[str, Any]] = {}
+    channels: dict[str, dict[str, np.ndarray]] = {}
+    for controller, out in _climbed(specs, workers):
         write_climb(out, out_dir, f"{title}, controller {controller}")
-        table[controller] = controller_row(out)
+        rows[controller] = controller_row(out)
+        channels[controller] = out.run.channels
+    table = {c: rows[c] for c in CONTROLLERS}
+    none = channels[CONTROLLERS[0]]
+    leg = spec.switch.leg if spec.switch else int(np.argmax(slip_totals(none).distance))
+    figure = slip_comparison_figure({c: channels[c] for c in CONTROLLERS}, leg, title)
+    save_figure(figure, out_dir / f"{spec.name}.controllers.png", dpi=90)
     write_json(out_dir / f"{spec.name}.controllers.json", {"slip": table})
     return table
 
 
-def slip_comparison(
-    params: Params, ctx: RobotContext, trajectory: Sampled, out_dir: Path
-) -> dict[str, dict[str, Any]]:
-    """``evaluate.slip_scenario``'s climb under each controller (:func:`compare_controllers`,
-    its files in ``out_dir``): per controller its slip_distance, slip_path, max_slip_velocity and
-    fell."""
+def slip_name(scenario: SlipScenario) -> str:
+    """The slip comparison's climb name: its files are ``<name>.<controller>.*`` and
+    ``<name>.controllers.*``."""
+    return f"slip_{scenario.trajectory}"
+
+
+def slip_scenario_spec(
+    params: Params, ctx: RobotContext, trajectory: Sampled
+) -> tuple[ClimbSpec, str]:
+    """``evaluate.slip_scenario``'s climb of ``trajectory`` and its title; a scenario time
+    outside the climb is refused here, before anything runs."""
     scenario = params.evaluate.slip_scenario
     change = SurfaceChange(foot=scenario.foot, time=scenario.time, surface=scenario.surface)
     climb_ = params.climb.model_copy(update={"surface_change": change})
     params = params.model_copy(update={"climb": climb_})
-    name = f"slip_{scenario.trajectory}"
-    spec = spec_for(params, ctx, name, trajectory, None)
+    try:
+        spec = spec_for(params, ctx, slip_name(scenario), trajectory, None)
+    except ParamsError as err:  # the change is the scenario's: name its key
+        raise ParamsError("evaluate.slip_scenario.time", err.what) from None
     title = (
         f"{ctx.name} on {params.surface}: {scenario.trajectory}, {scenario.foot} on"
         f" {scenario.surface} at {scenario.time:g} s"
     )
-    table = compare_controllers(spec, out_dir, title)
+    return spec, title
+
+
+def slip_comparison(
+    spec: ClimbSpec, title: str, out_dir: Path, workers: int = 0
+) -> dict[str, dict[str, Any]]:
+    """The slip scenario's climb (:func:`slip_scenario_spec`) under each controller
+    (:func:`compare_controllers`, its files in ``out_dir``, ``workers`` as there): per
+    controller its slip_distance, slip_path, max_slip_velocity and fell."""
+    table = compare_controllers(spec, out_dir, title, workers)
     keys = ("slip_distance", "slip_path", "max_slip_velocity", "fell")
     return {controller: {k: row[k] for k in keys} for controller, row in table.items()}

@@ -28,7 +28,14 @@ from ftfof.pipeline.artefacts import (
     read_refine,
 )
 from ftfof.pipeline.bench import baseline_trajectories, bench, context_of
-from ftfof.pipeline.climb import CLIMBS, climb_all, slip_comparison, spec_for
+from ftfof.pipeline.climb import (
+    CLIMBS,
+    climb_all,
+    slip_comparison,
+    slip_name,
+    slip_scenario_spec,
+    spec_for,
+)
 from ftfof.pipeline.console import console
 from ftfof.pipeline.jobs import FINAL, Acquisition
 from ftfof.pipeline.registry import model_record, promote
@@ -68,6 +75,10 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
         rounds = read_refine(paths.refine)
         front_rows = front_sample(inputs, params.evaluate.front_points)
         baselines = baseline_trajectories(params, ctx)  # simulated, and judged by the robot's rules
+        scenario = params.evaluate.slip_scenario
+        slip = None  # the slip comparison's climb, checked before anything runs
+        if params.evaluate.slip_comparison and ctx.robot.climber is not None:
+            slip = slip_scenario_spec(params, ctx, baselines[scenario.trajectory])
         job = _job(params, ctx, paths.out, inputs, front_rows, baselines)
         cfg = params.acquire
         todo = job.remaining()
@@ -98,10 +109,11 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
         )
         climbed = _climbs(params, ctx, paths.out, baselines, bezier, breaks, workers)
         result.summary["climb"] = climbed
-        if params.evaluate.slip_comparison and ctx.robot.climber is not None:
-            trajectory = baselines[params.evaluate.slip_scenario.trajectory]
+        figures = _climb_figures(paths.out, climbed)
+        if slip is not None:
             out = paths.out / CLIMBS / "slip"
-            result.summary["slip"] = slip_comparison(params, ctx, trajectory, out)
+            result.summary["slip"] = slip_comparison(*slip, out, pool)
+            figures["slip"] = read_figure(out / f"{slip_name(scenario)}.controllers.png")
         eps = eps_study(bench(params, ctx), baselines["eps_bezier"], params.study.eps, pool)
         result.summary["eps_study"] = eps.report()
         html = evaluation_page(
@@ -111,10 +123,11 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
             params.surface,
             params.climb.steps,
             pictures,
-            _climb_figures(paths.out, climbed),
+            figures,
             eps,
             str(paths.export),
             rounds,
+            scenario.model_dump(),
         )
         controller = result.controller
         with atomic_path(paths.export) as tmp:

@@ -11,6 +11,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from numpy.typing import NDArray
 
+from ftfof.climb.metrics import slip_totals, stance_travel
 from ftfof.climb.outcome import Climbed
 from ftfof.climb.simulate import chain_of
 from ftfof.config import LEG_NAMES
@@ -118,3 +119,20 @@ def side_view(out: Climbed, title: str) -> Figure:
         spec.robot.foot.pad_length,
         f"{title}: from the side",
     )
+
+
+def slip_comparison_figure(runs: dict[str, dict[str, Array]], leg: int, title: str) -> Figure:
+    """One foot's slip under each controller (``runs``: controller -> the climb's channels):
+    its slip velocity, and how far its pad got from where each stance began (the slip
+    distance sums each stance's largest excursion)."""
+    fig, axes = plt.subplots(2, 1, figsize=(11, 6.5), sharex=True, constrained_layout=True)
+    for controller, c in runs.items():
+        t, v = c["t"], c["slip_velocity"][:, leg]
+        distance = 1e3 * slip_totals(c).distance[leg]
+        axes[0].plot(t, 1e3 * v, lw=0.6, label=controller)
+        axes[1].plot(t, 1e3 * stance_travel(t, v), lw=0.9, label=f"{controller}: {distance:.2f} mm")
+    axes[0].set(ylabel=f"{LEG_NAMES[leg]} slip velocity [mm/s]", title=title)
+    axes[1].set(xlabel="t [s]", ylabel="from the stance's start [mm]")
+    axes[0].legend(loc="upper left", ncols=4, fontsize=8)
+    axes[1].legend(loc="lower left", title="slip distance", fontsize=8)
+    return fig

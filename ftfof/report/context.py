@@ -204,11 +204,15 @@ def evaluation_page(
     eps: EpsStudy,
     export_path: str,
     rounds: list[dict],
+    slip_scenario: Mapping[str, Any],
 ) -> str:
     """The self-contained HTML report: :func:`report_context` with the earlier stages' and the
-    climb's figures (data URIs), the ε study, the export's path and refine's ``rounds``."""
+    climb's figures (data URIs), the ε study, the export's path, refine's ``rounds`` and the
+    slip comparison's scenario (its table is the summary's ``slip``, where it ran)."""
     values = report_context(ev, ctx, inputs, surface, ev.summary["reference"], climb_steps)
     values["eps_study"] = ev.summary["eps_study"]
+    slip = ev.summary.get("slip")
+    values["slip"] = {**slip_scenario, "table": slip} if slip else None
     values["figures"] = {
         **stage_figures,
         **values["figures"],

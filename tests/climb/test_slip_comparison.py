@@ -17,7 +17,7 @@ from ftfof.report import run_metrics
 def test_the_comparison_climbs_the_scenario_once_per_controller(params, tmp_path, monkeypatch):
     seen = []
 
-    def compare(spec, out_dir, title):
+    def compare(spec, out_dir, title, workers):
         seen.append(spec)
         row = {"slip_distance": 2e-3, "slip_path": 5e-3, "max_slip_velocity": 7e-3}
         row |= {"fell": False, "fall": ""}
@@ -27,7 +27,7 @@ def test_the_comparison_climbs_the_scenario_once_per_controller(params, tmp_path
     ctx = context_of(params)
     scenario = params.evaluate.slip_scenario
     trajectory = baseline_trajectories(params, ctx)[scenario.trajectory]
-    table = climbs.slip_comparison(params, ctx, trajectory, tmp_path)
+    table = climbs.slip_comparison(*climbs.slip_scenario_spec(params, ctx, trajectory), tmp_path)
     (spec,) = seen
     foot = LEG_NAMES.index(scenario.foot)
     switch = SurfaceSwitch(foot, scenario.time, params.surfaces[scenario.surface])
@@ -44,3 +44,13 @@ def test_a_scenario_on_an_unknown_surface_is_one_line_naming_its_key(params_dict
     with pytest.raises(ParamsError) as err:
         parse_params(params_dict)
     assert "evaluate.slip_scenario.surface" in str(err.value) and "\n" not in str(err.value)
+
+
+def test_a_scenario_time_outside_the_climb_is_refused_naming_its_key(params_dict):
+    params_dict["evaluate"]["slip_scenario"]["time"] = 99.0
+    params = parse_params(params_dict)
+    ctx = context_of(params)
+    trajectory = baseline_trajectories(params, ctx)["eps_bezier"]
+    outside = r"evaluate\.slip_scenario\.time: 99 s is outside the climb"
+    with pytest.raises(ParamsError, match=outside):
+        climbs.slip_scenario_spec(params, ctx, trajectory)

@@ -23,7 +23,13 @@ def refined_tiny(trained, tmp_path_factory):
     data = copy.deepcopy(data)
     data["optimize"] = {**data["optimize"], **TINY_OPTIMIZE}
     data["polish"] = {**data.get("polish", {}), **TINY_POLISH}
-    data["evaluate"] = {**data["evaluate"], "front_points": 2, "export_rate_hz": 200}
+    scenario = {**data["evaluate"]["slip_scenario"], "time": 1.0}  # within one step's climb
+    data["evaluate"] = {
+        **data["evaluate"],
+        "front_points": 2,
+        "export_rate_hz": 200,
+        "slip_scenario": scenario,
+    }
     data["refine"] = {**data["refine"], "rounds": 0}
     data["acquire"] = {**data["acquire"], "workers": 2}
     data["climb"] = {**data.get("climb", {}), "steps": 1}  # evaluate climbs: one swing each

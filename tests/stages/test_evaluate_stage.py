@@ -28,8 +28,9 @@ def test_report_is_self_contained_and_every_image_decodes(evaluated):
     assert not re.search(r"(?:https?:)?//[a-z0-9.-]+\.[a-z]{2,}", html, re.I), "external URL"
     sources = re.findall(r"""<img[^>]+src=["']([^"']+)["']""", html)
     # paths (in the run-this box and with the figures), forces, jitter, the climb's traces and
-    # side view, the ε study, the choice, fidelity, refinement, 3 Pareto, 2 training
-    assert len(sources) == 15
+    # side view, the slip comparison, the ε study, the choice, fidelity, refinement, 3 Pareto,
+    # 2 training
+    assert len(sources) == 16
     for src in sources:
         assert src.startswith("data:image/png;base64,")
         image = Image.open(io.BytesIO(base64.b64decode(src.split(",", 1)[1])))
@@ -58,6 +59,27 @@ def test_the_climbing_robot_climbs_table_ones_trajectories(evaluated):
     html = (work / "report.html").read_text()
     assert "<h2>The climbing robot</h2>" in html and "1 of 1" in html
     assert "FTFOF Table I [m/s²]" in html and "<td>327.3</td>" in html
+
+
+def test_the_slip_comparison_is_in_the_metrics_and_the_report(evaluated):
+    """evaluate.slip_scenario (HR onto the dusty wall at 4 s) under each controller: its
+    figures in metrics.json, its table and figure in the report, its climbs written."""
+    work, *_ = evaluated
+    slip = json.loads((work / "metrics.json").read_text())["slip"]
+    assert set(slip) == {"none", "weights", "replan", "both"}
+    for row in slip.values():
+        assert set(row) == {"slip_distance", "slip_path", "max_slip_velocity", "fell"}
+        assert 0 <= row["slip_distance"] <= row["slip_path"] and row["fell"] is False
+    out = work / "sims" / "climb" / "slip"
+    assert (out / "slip_eps_bezier.controllers.png").exists()
+    assert {p.name for p in out.glob("slip_eps_bezier.*.json")} == {
+        f"slip_eps_bezier.{c}.json" for c in [*slip, "controllers"]
+    }
+    html = (work / "report.html").read_text()
+    section = html.split("<h2>Climbing under slip: the four controllers</h2>")[1].split("<h2>")[0]
+    assert "HR's pad moved onto" in section and "dusty_wall at 1 s" in section
+    assert [f"<tr><td>{c}</td>" in section for c in slip] == [True] * 4
+    assert 'alt="the changed foot\'s slip under each controller"' in section
 
 
 def test_the_eps_study_is_in_the_metrics_and_the_report(evaluated):

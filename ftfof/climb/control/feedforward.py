@@ -20,7 +20,8 @@ wrench's moment leaves them out. Controllers:
 
 - ``none``: the QP at the nominal weights and the nominal pads;
 - ``weights``: a stance foot detected slipping (:class:`~ftfof.climb.control.slip.SlipDetector`)
-  gets its weights adapted by its slip rate (climbing_slip §5);
+  gets its weights adapted by its slip rate (climbing_slip §5), the rate held at its highest
+  until the stance changes (§6.3: the paper's weights start anew with each phase);
 - ``replan``: a foot detected slipping has its pad estimated from its last ESTIMATE_SAMPLES force
   samples; the estimate replaces the nominal pad in the QP, and goes to the re-planner
   (:mod:`ftfof.climb.control.replan`), whose plan the loop then tracks;

@@ -92,18 +92,20 @@ def test_the_adapted_qp_moves_a_slipping_foot_toward_its_normal(m3f, foot):
 MU, ADHESION = 0.6, 8.0
 
 
-def _slip_window(seed: int = 0, samples: int = 150) -> tuple[np.ndarray, np.ndarray]:
+def _slip_window(seed: int = 0, samples: int = 30) -> tuple[np.ndarray, np.ndarray]:
     """A slipping pad's forces under R = 0.25 N^2 noise: the normal load varied throughout the
-    window, the pad sliding down (friction on the foot up the wall, f_t > 0)."""
+    window, the pad sliding down (friction on the foot up the wall, f_t > 0). 30 samples are
+    30 ms at the force sensor's and the controller's 1 kHz: two of the Kalman filter's windows."""
     rng = np.random.default_rng(seed)
     fn = rng.uniform(-3.0, 10.0, samples)
     ft = MU * (fn + ADHESION) + rng.normal(0.0, 0.5, samples)
     return fn, ft
 
 
+@pytest.mark.parametrize("seed", range(5))
 @pytest.mark.parametrize("method", ["kalman", "least_squares"])
-def test_the_estimate_recovers_the_pad_within_ten_percent(method):
-    fn, ft = _slip_window()
+def test_the_estimate_recovers_the_pad_within_ten_percent_in_30_ms(method, seed):
+    fn, ft = _slip_window(seed)
     prior = Estimate(0.45, 5.6)  # the controller assumed a pad 25-30 % off
     for sign in (1.0, -1.0):  # sliding down or up: the friction law sees |f_t|
         est = estimate_pad(fn, sign * ft, method, prior)

@@ -69,16 +69,16 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
     ctx = context_of(params)
     inputs = read_optimum(paths.optimize, ctx.name)
     check_models(inputs, paths.optimize, paths.models)
+    baselines = baseline_trajectories(params, ctx)  # simulated, and judged by the robot's rules
+    scenario = params.evaluate.slip_scenario
+    slip = None  # the slip comparison's climb, checked before anything runs
+    if params.evaluate.slip_comparison and ctx.robot.climber is not None:
+        slip = slip_scenario_spec(params, ctx, baselines[scenario.trajectory])
     with _tracked(params, inputs) as mlflow:  # open while it works: the run spans it
         surrogate = load_surrogate(paths.models)
         pictures = {key: read_figure(paths.figures / key) for key, _ in STAGE_FIGURES}
         rounds = read_refine(paths.refine)
         front_rows = front_sample(inputs, params.evaluate.front_points)
-        baselines = baseline_trajectories(params, ctx)  # simulated, and judged by the robot's rules
-        scenario = params.evaluate.slip_scenario
-        slip = None  # the slip comparison's climb, checked before anything runs
-        if params.evaluate.slip_comparison and ctx.robot.climber is not None:
-            slip = slip_scenario_spec(params, ctx, baselines[scenario.trajectory])
         job = _job(params, ctx, paths.out, inputs, front_rows, baselines)
         cfg = params.acquire
         todo = job.remaining()

@@ -68,7 +68,6 @@ def logged(monkeypatch):
 
 @pytest.mark.integration
 def test_without_phase_steps_every_step_is_the_step(params, logged):
-    assert not params.acquire.solver.phase_steps  # today's runs stay as they were
     result = simulate(_specs(params, {})[0])
     assert result.ok, result.error
     h = np.array([row[1] for row in logged.log])

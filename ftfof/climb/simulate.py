@@ -14,8 +14,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 import ftfof.config as config
+from ftfof.climb.control.com_replan import PlannerReplanner
 from ftfof.climb.control.feedforward import FeedForward, Pads
-from ftfof.climb.control.replan import Replanner, keep_plan
+from ftfof.climb.control.replan import Replanner
 from ftfof.climb.gait import LEGS, Gait
 from ftfof.climb.legs import SagittalChain, sagittal_chain
 from ftfof.climb.loop import ClimbLoop, channel_slices
@@ -108,11 +109,23 @@ def pull_off_of(law: BondLaw, surface: config.Surface, preload: float, area: flo
     return float(law.preload_factor(preload / area)) * surface.strength * area
 
 
+def control_counts(control: FeedForward | None, replanner: Replanner) -> dict[str, int]:
+    """What the controller did (none: {}), with the CoM re-planner's refusals where it is one."""
+    if control is None:
+        return {}
+    counts = asdict(control.counts)
+    if isinstance(replanner, PlannerReplanner):
+        counts["replan_infeasible"] = replanner.counts.infeasible
+        counts["replan_outside"] = replanner.counts.outside
+    return counts
+
+
 def climb(
-    spec: ClimbSpec, duration: float | None = None, replanner: Replanner = keep_plan
+    spec: ClimbSpec, duration: float | None = None, replanner: Replanner | None = None
 ) -> ClimbRun:
     """Run one climb (``duration``: stop early, for tests and benchmarks; ``replanner``: the
-    body's re-planner of the replan and both controllers)."""
+    body's re-planner of the replan and both controllers, by default the one-step CoM planner's,
+    :class:`~ftfof.climb.control.com_replan.PlannerReplanner`; ``keep_plan`` keeps the gait's)."""
     exu.config.printToConsole = False
     started = time.perf_counter()
     gait, chain = gait_of(spec), chain_of(spec.robot)
@@ -120,6 +133,8 @@ def climb(
     model: Climber = build(spec, chain, gait, law)
     solver = exu.MainSolverImplicitSecondOrder()
     rate = max(spec.climb.imu_rate_hz, spec.platform.sensor.rate_hz)
+    if replanner is None:
+        replanner = PlannerReplanner(gait, robot_mass(spec.robot), float(model.chain.hip[1]))
     control = controller_of(model, replanner)
     loop = ClimbLoop(model, solver, rate, control)
     model.mbs.SetPreStepUserFunction(loop)
@@ -152,5 +167,5 @@ def climb(
         wall_time=time.perf_counter() - started,
         steps=loop.steps,
         imu_reference=np.asarray(model.mbs.GetSensorStoredData(model.imu_sensor)),
-        control=asdict(control.counts) if control else {},
+        control=control_counts(control, replanner),
     )

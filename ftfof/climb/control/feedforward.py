@@ -254,6 +254,7 @@ class FeedForward:
             body.copy(),
             body_rate.copy(),
             plan,
+            self.believed.pull_off.copy(),
         )
         new = self.replanner(request)
         self.counts.replans += new is not None

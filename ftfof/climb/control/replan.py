@@ -34,6 +34,7 @@ class ReplanRequest:
     body: Array  # (3,) x, z, pitch of the trunk
     body_rate: Array  # (3,)
     plan: BodyPlan  # the plan the loop tracks now
+    pull_off: Array | None = None  # (4,) the most each pad holds pulled off, N (None: F_adh)
 
 
 Replanner = Callable[[ReplanRequest], BodyPlan | None]

@@ -10,11 +10,14 @@ The crawl's step k maps onto the planner's :class:`~ftfof.climb.control.planner.
 the CoM from the plan's body x at lift-off to its x after the advance, at the trunk's height
 (the controller's CoM: the trunk's, the legs left out), the feet on the wall at z = 0. A slip
 declared in the swing or landing hold is re-planned with
-:func:`~ftfof.climb.control.planner.replan_swing` from the body's state, with every pad's
-believed mu, F_adh and pull-off: the new plan follows the planner's CoM x (its z stays the
-wall's plane, as the controller holds it) to the goal at rest, then the plan it replaces. A slip
-outside those phases (settling, the advance), or with a second foot off the wall, is left to the
-plan the loop has, as is a step the planner finds infeasible.
+:func:`~ftfof.climb.control.planner.replan_swing` from the plan's state at the slip, with every
+pad's believed mu, F_adh and pull-off: the new plan follows the planner's CoM x (its z stays the
+wall's plane, as the controller holds it) to the goal at rest, then the plan it replaces. It
+starts where the plan is, not where the body is: the body's measured state follows the slide,
+and a plan started from it chased the slide (HR on the dusty wall: the robot fell). A slip
+outside those phases (settling, the advance), with a second foot off the wall, or with a pad
+believed off the physical range (mu or F_adh not positive), is left to the plan the loop has,
+as is a step the planner finds infeasible.
 """
 
 from __future__ import annotations
@@ -69,8 +72,9 @@ class PlannerReplanner:
         stance = np.asarray(request.stance, bool)
         others = np.ones(len(stance), bool)
         others[leg] = False
-        if not stance[others].all():
-            return None
+        pads = np.concatenate([request.friction, request.adhesion])
+        if not stance[others].all() or not (np.isfinite(pads).all() and pads.min() > 0):
+            return None  # a second foot off the wall, or a pad off the physical range
         lift = gait.lift_off(k)
         x = request.plan(np.array([lift, lift + off + gait.shift]))[0]
         pull = request.pull_off if request.pull_off is not None else request.adhesion
@@ -104,14 +108,14 @@ class PlannerReplanner:
             self.counts.outside += 1
             return None
         step, origin, elapsed = found
-        body, rate = np.asarray(request.body, float), np.asarray(request.body_rate, float)
+        x, v = request.plan(np.array([request.time]))
         try:
             com = replan_swing(
                 step,
                 np.array([1.0, 0.0]),
                 elapsed,
-                np.array([body[0], self.com_height + body[1]]),
-                rate[:2],
+                np.array([x[0], self.com_height]),
+                np.array([v[0], 0.0]),
             )
         except InfeasibleStepError as err:
             self.counts.infeasible += 1

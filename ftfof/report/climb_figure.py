@@ -134,5 +134,5 @@ def slip_comparison_figure(runs: dict[str, dict[str, Array]], leg: int, title: s
     axes[0].set(ylabel=f"{LEG_NAMES[leg]} slip velocity [mm/s]", title=title)
     axes[1].set(xlabel="t [s]", ylabel="from the stance's start [mm]")
     axes[0].legend(loc="upper left", ncols=4, fontsize=8)
-    axes[1].legend(loc="lower left", title="slip distance", fontsize=8)
+    axes[1].legend(loc="lower left", title=f"{LEG_NAMES[leg]}'s slip distance", fontsize=8)
     return fig

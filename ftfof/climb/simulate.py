@@ -17,6 +17,7 @@ import ftfof.config as config
 from ftfof.climb.control.com_replan import PlannerReplanner
 from ftfof.climb.control.feedforward import FeedForward, Pads
 from ftfof.climb.control.replan import Replanner
+from ftfof.climb.control.slip import SlipDetector
 from ftfof.climb.gait import LEGS, Gait
 from ftfof.climb.legs import SagittalChain, sagittal_chain
 from ftfof.climb.loop import ClimbLoop, channel_slices
@@ -95,6 +96,7 @@ def controller_of(model: Climber, replanner: Replanner) -> FeedForward | None:
         com_height=float(model.chain.hip[1]),
         pads=Pads(*(np.full(LEGS, v) for v in (model.law.friction, adhesion, pull_off))),
         replanner=replanner,
+        detector=SlipDetector(threshold=spec.climb.slip_threshold, hold=spec.climb.slip_hold),
     )
 
 

@@ -252,6 +252,10 @@ class Climb(Strict):
     surface_change: SurfaceChange | None = None  # null: every pad on the selected surface
     # the stance feet's force control (docs/climb.md, "Slip"); null: none, the joint PD alone
     controller: Controller | None = None
+    # a stance pad sliding on its patch faster than slip_threshold for slip_hold is declared
+    # slipping, and the controllers answer it (climbing_slip §6.2)
+    slip_threshold: PositiveFloat = 5e-3  # m/s
+    slip_hold: NonNegativeFloat = 0.01  # s
 
 
 def _ascending(values: list[float]) -> list[float]:

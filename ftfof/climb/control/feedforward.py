@@ -53,8 +53,6 @@ from ftfof.identify.estimate import Estimate
 Array = NDArray[np.float64]
 CONTROL_RATE_HZ = 1000.0
 NOMINAL_WEIGHTS = (1.0, 1e-3)  # tangential, normal: the normal far below (climbing_slip §5.2)
-SLIP_THRESHOLD = 5e-3  # m/s: a stance pad sliding on its patch faster than this may slip
-SLIP_HOLD = 0.01  # s above the threshold before a slip is declared
 SLIP_SPAN = 0.02  # m/s: the slip rate's scale above the threshold (slip_rate)
 BODY_BANDWIDTH_HZ = 5.0  # the trunk wrench's PD, critically damped
 ESTIMATE_SAMPLES = 15  # force samples per estimate (the Kalman estimator's window)
@@ -96,10 +94,8 @@ class FeedForward:
     com_height: float  # the trunk's CoM above the wall at z = 0, m
     pads: Pads
     replanner: Replanner
+    detector: SlipDetector  # climb.slip_threshold and climb.slip_hold
     distributor: ForceDistributor = field(default_factory=ForceDistributor)
-    detector: SlipDetector = field(
-        default_factory=lambda: SlipDetector(threshold=SLIP_THRESHOLD, hold=SLIP_HOLD)
-    )
     counts: Counts = field(default_factory=Counts)
 
     def __post_init__(self) -> None:
@@ -157,7 +153,7 @@ class FeedForward:
         if not np.array_equal(stance, self.phase):
             self.held_rate = np.zeros_like(self.held_rate)
             self.phase = stance.copy()
-        rate = slip_rate(slip_velocity, SLIP_THRESHOLD, SLIP_SPAN) * slipping
+        rate = slip_rate(slip_velocity, self.detector.threshold, SLIP_SPAN) * slipping
         self.held_rate = np.maximum(self.held_rate, rate)
         return self.held_rate
 

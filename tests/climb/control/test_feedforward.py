@@ -9,16 +9,19 @@ from ftfof.climb.control.feedforward import (
     CONTROL_RATE_HZ,
     FORCE_TIME_CONSTANT,
     MAX_TRIM,
-    SLIP_HOLD,
     FeedForward,
     Pads,
 )
+from ftfof.climb.control.slip import SlipDetector
 from ftfof.climb.legs import sagittal_chain
 from ftfof.climb.simulate import pull_off_of
+from ftfof.config.stages import Climb
 from ftfof.sim.bonds import BondLaw
 from ftfof.sim.slip import adhesion_truth
 from tests.climb.control.stances import ADHESION, FRICTION, MASS, PULL_OFF, STROKE
 
+CLIMB = Climb()
+SLIP_HOLD = CLIMB.slip_hold
 SLIDING = np.array([0.0, 0.05, 0.0, 0.0])  # FR slides up its patch at 50 mm/s
 
 
@@ -26,7 +29,11 @@ def _controller(m3f, mode, replanner=lambda request: None):
     robot = m3f.robot
     chain = sagittal_chain(robot.leg, robot.climber.torque_limits, robot.platform.foot.ankle_height)
     pads = Pads(np.full(4, FRICTION), np.full(4, ADHESION), np.full(4, PULL_OFF))
-    return FeedForward(mode, chain, MASS, 1e-3, float(chain.hip[1]), pads, replanner), chain
+    detector = SlipDetector(threshold=CLIMB.slip_threshold, hold=SLIP_HOLD)
+    controller = FeedForward(
+        mode, chain, MASS, 1e-3, float(chain.hip[1]), pads, replanner, detector
+    )
+    return controller, chain
 
 
 def _plan(t):

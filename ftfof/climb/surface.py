@@ -35,16 +35,18 @@ class SurfaceSwitch:
     surface: config.Surface
 
 
-def switch_of(params: config.Params, end: float) -> SurfaceSwitch | None:
+def switch_of(
+    params: config.Params, end: float, key: str = "climb.surface_change"
+) -> SurfaceSwitch | None:
     """``climb.surface_change`` resolved against its presets, for a climb that ends at ``end``;
-    a switch outside (0, end) is a :class:`ParamsError` naming its key (the foot and the preset
-    are checked with the params)."""
+    a switch outside (0, end) is a :class:`ParamsError` naming ``key``, the params entry the
+    change came from (the foot and the preset are checked with the params)."""
     change = params.climb.surface_change
     if change is None:
         return None
     if not 0.0 < change.time < end:
         raise ParamsError(
-            "climb.surface_change.time",
+            f"{key}.time",
             f"{change.time:g} s is outside the climb, which runs (0, {end:g}) s",
         )
     return SurfaceSwitch(

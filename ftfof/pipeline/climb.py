@@ -15,7 +15,6 @@ from typing import Any
 import numpy as np
 import pyarrow as pa
 
-from ftfof.climb.metrics import slip_totals
 from ftfof.climb.model import ClimbSpec
 from ftfof.climb.outcome import (
     CONTROLLERS,
@@ -61,10 +60,16 @@ def climb_spec(
 
 
 def spec_for(
-    params: Params, ctx: RobotContext, name: str, trajectory: Sampled, X: np.ndarray | None
+    params: Params,
+    ctx: RobotContext,
+    name: str,
+    trajectory: Sampled,
+    X: np.ndarray | None,
+    change_key: str = "climb.surface_change",
 ) -> ClimbSpec:
     """The climb of one trajectory: a Bezier row exactly, an analytic one Hermite-fitted; a
-    ``climb.surface_change`` outside the climb is refused here, before anything runs."""
+    ``climb.surface_change`` outside the climb is refused here, before anything runs, naming
+    ``change_key``, where the change came from."""
     if X is not None:
         piecewise = bench(params, ctx).bezier("climb", 0, X).trajectory
     else:
@@ -79,7 +84,7 @@ def spec_for(
         climb=params.climb,
         seed=seed_for(params.base.seed, "climb"),
     )
-    return replace(spec, switch=switch_of(params, gait_of(spec).end))
+    return replace(spec, switch=switch_of(params, gait_of(spec).end, change_key))
 
 
 def climb_all(
@@ -167,16 +172,14 @@ def compare_controllers(
         )
         for c in CONTROLLERS
     }
-    rows: dict[str, dict[str, Any]] = {}
-    channels: dict[str, dict[str, np.ndarray]] = {}
+    outs: dict[str, Climbed] = {}
     for controller, out in _climbed(specs, workers):
         write_climb(out, out_dir, f"{title}, controller {controller}")
-        rows[controller] = controller_row(out)
-        channels[controller] = out.run.channels
-    table = {c: rows[c] for c in CONTROLLERS}
-    none = channels[CONTROLLERS[0]]
-    leg = spec.switch.leg if spec.switch else int(np.argmax(slip_totals(none).distance))
-    figure = slip_comparison_figure({c: channels[c] for c in CONTROLLERS}, leg, title)
+        outs[controller] = out
+    outs = {c: outs[c] for c in CONTROLLERS}
+    table = {c: controller_row(out) for c, out in outs.items()}
+    leg = spec.switch.leg if spec.switch else int(np.argmax(outs[CONTROLLERS[0]].slip.distance))
+    figure = slip_comparison_figure(outs, leg, title)
     save_figure(figure, out_dir / f"{spec.name}.controllers.png", dpi=90)
     write_json(out_dir / f"{spec.name}.controllers.json", {"slip": table})
     return table
@@ -197,10 +200,7 @@ def slip_scenario_spec(
     change = SurfaceChange(foot=scenario.foot, time=scenario.time, surface=scenario.surface)
     climb_ = params.climb.model_copy(update={"surface_change": change})
     params = params.model_copy(update={"climb": climb_})
-    try:
-        spec = spec_for(params, ctx, slip_name(scenario), trajectory, None)
-    except ParamsError as err:  # the change is the scenario's: name its key
-        raise ParamsError("evaluate.slip_scenario.time", err.what) from None
+    spec = spec_for(params, ctx, slip_name(scenario), trajectory, None, "evaluate.slip_scenario")
     title = (
         f"{ctx.name} on {params.surface}: {scenario.trajectory}, {scenario.foot} on"
         f" {scenario.surface} at {scenario.time:g} s"

@@ -11,7 +11,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from numpy.typing import NDArray
 
-from ftfof.climb.metrics import slip_totals, stance_travel
+from ftfof.climb.metrics import stance_travel
 from ftfof.climb.outcome import Climbed
 from ftfof.climb.simulate import chain_of
 from ftfof.config import LEG_NAMES
@@ -121,14 +121,15 @@ def side_view(out: Climbed, title: str) -> Figure:
     )
 
 
-def slip_comparison_figure(runs: dict[str, dict[str, Array]], leg: int, title: str) -> Figure:
-    """One foot's slip under each controller (``runs``: controller -> the climb's channels):
-    its slip velocity, and how far its pad got from where each stance began (the slip
-    distance sums each stance's largest excursion)."""
+def slip_comparison_figure(runs: dict[str, Climbed], leg: int, title: str) -> Figure:
+    """One foot's slip under each controller (``runs``: controller -> its climb): its slip
+    velocity, and how far its pad got from where each stance began (the slip distance sums
+    each stance's largest excursion)."""
     fig, axes = plt.subplots(2, 1, figsize=(11, 6.5), sharex=True, constrained_layout=True)
-    for controller, c in runs.items():
+    for controller, out in runs.items():
+        c = out.run.channels
         t, v = c["t"], c["slip_velocity"][:, leg]
-        distance = 1e3 * slip_totals(c).distance[leg]
+        distance = 1e3 * out.slip.distance[leg]
         axes[0].plot(t, 1e3 * v, lw=0.6, label=controller)
         axes[1].plot(t, 1e3 * stance_travel(t, v), lw=0.9, label=f"{controller}: {distance:.2f} mm")
     axes[0].set(ylabel=f"{LEG_NAMES[leg]} slip velocity [mm/s]", title=title)

@@ -15,6 +15,7 @@ from ftfof.pipeline.catalog import path
 from stages.common import ParamsOption, console, stage
 
 DATASET = path("dataset")
+ACQUISITION = path("acquisition")
 MODELS = path("models")
 OPTIMIZE = path("optimize")
 OUT = path("refine")
@@ -26,6 +27,9 @@ FIGURE = path("refine_figure")
 def command(
     params_path: Annotated[Path, ParamsOption] = Path("params.yaml"),
     dataset: Annotated[Path, typer.Option(help="The dataset stage's directory.")] = DATASET,
+    acquisition: Annotated[
+        Path, typer.Option(help="The acquire stage's simulations (clean ones are nominees).")
+    ] = ACQUISITION,
     models: Annotated[Path, typer.Option(help="The train stage's models.")] = MODELS,
     optimize: Annotated[Path, typer.Option(help="The optimize stage's directory.")] = OPTIMIZE,
     out: Annotated[Path, typer.Option(help="Rounds and final models, optimum, dataset.")] = OUT,
@@ -38,7 +42,8 @@ def command(
     from ftfof.pipeline.refine import Paths, run
 
     params = load_params(params_path)
-    rounds = run(params, Paths(dataset, models, optimize, out, report, figure), workers)["rounds"]
+    paths = Paths(dataset, acquisition, models, optimize, out, report, figure)
+    rounds = run(params, paths, workers)["rounds"]
     total = sum(r["seconds"] for r in rounds)
     console.print(
         f"refine: {len(rounds)} of {params.refine.rounds} rounds, "

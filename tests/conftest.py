@@ -84,6 +84,7 @@ def refine_args(params: Path, trained: Path, optimize: Path, out: Path, figure: 
         "refine",
         params,
         dataset=trained / "ds",
+        acquisition=trained / "acq",
         models=trained / "models",
         optimize=optimize,
         out=out,

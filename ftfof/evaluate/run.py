@@ -16,7 +16,7 @@ import pandas as pd
 
 from ftfof.config import Evaluate as EvaluateSettings
 from ftfof.config import Solver
-from ftfof.data.faults import foot_faults
+from ftfof.data.faults import Faults, foot_faults
 from ftfof.errors import DataError, SimulationError
 from ftfof.evaluate.choice import Candidate, choice_summary, rhs_candidates
 from ftfof.evaluate.export import ControllerTrajectory, ExportRateError, controller_trajectory
@@ -133,13 +133,7 @@ def front_members(
     members = []
     for _, row in sims.iterrows():  # a few tens of rows, once per evaluation
         f = figures_of(row, T3)
-        faults = foot_faults(
-            np.asarray(row.t, dtype=float),
-            np.asarray(row.bonds, dtype=float),
-            np.asarray(row.Fp, dtype=float),
-            {**f, "switch_time": float(row.switch_time), "max_clearance": float(row.max_clearance)},
-            rules,
-        )
+        faults = run_faults(row, f, rules)
         members.append(
             {
                 "row": int(row.sample_id),
@@ -183,6 +177,18 @@ def front_members(
         "landing_tolerance": rules.landing_tolerance,
         "body_acc_limit": rules.body_acc_limit,
     }
+
+
+def run_faults(row: pd.Series, figures: dict[str, float], rules: FootRules) -> Faults:
+    """What in one simulated run (an acquisition row, its ``figures``) a real foot could not
+    run: the film, the release, the landing and the body's shake under ``rules``."""
+    return foot_faults(
+        np.asarray(row.t, dtype=float),
+        np.asarray(row.bonds, dtype=float),
+        np.asarray(row.Fp, dtype=float),
+        {**figures, "switch_time": float(row.switch_time), "max_clearance": float(row.max_clearance)},
+        rules,
+    )
 
 
 def _on_check_film(films: FilmCheck | None, name: str, fc: float) -> dict[str, Any]:

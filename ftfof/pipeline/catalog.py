@@ -134,7 +134,7 @@ STAGES: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
         ),
     ),
     "refine": (
-        ("dataset", "models", "optimize"),
+        ("dataset", "acquisition", "models", "optimize"),
         ("refine", "refine_report", "refine_summary", "refine_figure"),
     ),
     "polish": (("refine_optimize", "refine_models"), ("polish", "polish_report", "polish_summary")),

@@ -16,7 +16,7 @@ from ftfof.data import dataset
 from ftfof.data.acquisition import ACQUISITION
 from ftfof.digests import json_sha256
 from ftfof.files import read_table
-from ftfof.pipeline.jobs import MANIFEST, versions
+from ftfof.pipeline.jobs import FINAL, MANIFEST, versions
 from ftfof.seeds import seed_for
 
 
@@ -44,7 +44,7 @@ def build(params: Params, acquisition: Path, imported: Path) -> Dataset:
     from ftfof.report.figures import dataset_figure
 
     started = time.perf_counter()
-    tables = [read_table(acquisition / "samples.parquet", ACQUISITION, "acquisition")]
+    tables = [read_table(acquisition / FINAL, ACQUISITION, "acquisition")]
     for path in sorted(imported.glob("*.parquet")) if imported.exists() else []:
         tables.append(read_table(path, ACQUISITION, "imported log"))
     cfg = params.dataset

@@ -63,6 +63,7 @@ ROUND = "round.json"
 @dataclass(frozen=True)
 class Paths:
     dataset: Path  # the dataset stage's directory
+    acquisition: Path  # the acquire stage's simulations (its clean ones are nominees)
     models: Path  # the train stage's models
     optimize: Path  # the optimize stage's front and optimum
     out: Path  # data/refine
@@ -92,7 +93,9 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> dict[str, A
         raise DataError(str(paths.dataset), "was built with other dataset params (re-run it)")
     key = _open(params, paths)
     state = State(paths.models, paths.optimize)
-    rounds: list[Round] = []
+    acquired = read_table(paths.acquisition / FINAL, ACQUISITION, "acquisition")
+    state.rounds.measure(rounds.acquired_points(ctx, acquired, params.dataset))
+    done_rounds: list[Round] = []
     # the run is open for the rounds: it spans them
     with RefineRun(params, paths.models, paths.optimize, paths.out) as tracked:
         for k in range(1, params.refine.rounds + 1):
@@ -102,13 +105,13 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> dict[str, A
                 done = _round(params, ctx, rdir, k, key, data, state, workers)
                 done.seconds = time.perf_counter() - started
                 tracked.round_done({**done.record, "seconds": done.seconds}, rdir)
-            rounds.append(done)
+            done_rounds.append(done)
             console.print(done.line(inputs.objectives[0]))
             if done.last:
                 break
         _publish(paths, state, data)
         report = {
-            "rounds": [{**r.record, "seconds": round(r.seconds, 2)} for r in rounds],
+            "rounds": [{**r.record, "seconds": round(r.seconds, 2)} for r in done_rounds],
             "seconds": round(time.perf_counter() - stage_started, 2),  # the stage's
         }
         write_metrics("refine", paths.report, report)

@@ -26,8 +26,8 @@ from ftfof.data.refinement import grow, round_rows
 from ftfof.digests import json_sha256
 from ftfof.errors import SimulationError
 from ftfof.evaluate.fidelity import Fidelity, relative_error, simulated_objectives, target_met
-from ftfof.evaluate.run import Inputs, fidelity_of, from_front, judged_front
-from ftfof.evaluate.runs import OPTIMUM, channels, simulated_rows
+from ftfof.evaluate.run import Inputs, fidelity_of, from_front, run_faults
+from ftfof.evaluate.runs import OPTIMUM, channels, figures_of, simulated_rows
 from ftfof.optimize.select import FRONT, Nominees, Outcome, SimulatorCheck, rhs_ranking
 from ftfof.robot import RobotContext
 from ftfof.seeds import seed_for
@@ -36,17 +36,18 @@ from ftfof.surrogate.store import TrainingData
 from ftfof.trajectory.bezier import DECISION_NAMES, same_trajectory
 
 DIGITS = 6  # of the fidelity numbers in a round's record
+ACQUIRED = "acquire"  # the origin of nominees the acquisition measured
 
 
 @dataclass(frozen=True)
 class Measured:
-    """A round's clean simulated points (the pad let go, the film survived, the foot landed, the
+    """The acquisition's or a round's clean simulated points (the pad let go, the film survived, the foot landed, the
     body stayed within its limit): decision rows (m) and their objectives from the simulated
     forces, in priority order."""
 
     X: np.ndarray
     F: np.ndarray
-    origin: str  # refine:<round>
+    origin: str  # refine:<round>, or ACQUIRED
 
 
 @dataclass
@@ -169,25 +170,43 @@ def successful(table: pa.Table) -> pd.DataFrame:
 def measured_points(ctx: RobotContext, ok: pd.DataFrame, dataset: Dataset, k: int) -> Measured:
     """Round ``k``'s successful simulations a real foot could run, with their simulated
     objectives (binned as the surrogate's targets, as the simulator check computes them)."""
-    sims = simulated_rows(ok)
-    clean = np.array([m["clean"] for m in judged_front(ctx, ok)["members"]], dtype=bool)
-    sims = sims[clean]
+    return clean_points(ctx, simulated_rows(ok), dataset, f"refine:{k}")
+
+
+def acquired_points(ctx: RobotContext, table: pa.Table, dataset: Dataset) -> Measured:
+    """The acquisition's sampled trajectories a real foot could run, as candidates beside the
+    rounds': the simulator measured them before any surrogate existed, and on the default
+    robot the best of the thousand sit ahead of where the surrogates' searches end on some
+    seeds (docs/decisions/0022-acquired-nominees.md). Baselines (no decision row) are left out."""
+    df = table.to_pandas()
+    sampled = df[(df.status == "ok") & df[list(DECISION_NAMES)].notna().all(axis=1)]
+    return clean_points(ctx, sampled, dataset, ACQUIRED)
+
+
+def clean_points(ctx: RobotContext, sims: pd.DataFrame, dataset: Dataset, origin: str) -> Measured:
+    """The simulations ``sims`` (acquisition rows) a real foot could run, with their simulated
+    objectives (binned as the surrogate's targets, as the simulator check computes them)."""
+    T3 = ctx.policy.timing.T3
+    clean = np.array(
+        [run_faults(r, figures_of(r, T3), ctx.rules).clean for _, r in sims.iterrows()], dtype=bool
+    )
+    sims = sims[clean] if len(sims) else sims
     X = sims[list(DECISION_NAMES)].to_numpy(dtype=float)
     names = ctx.robot.objectives
     F = np.empty((0, len(names)))
     if len(sims):
-        force_t = targets.time_base(ctx.policy.timing.T3, dataset.hold, dataset.seq_len)
+        force_t = targets.time_base(T3, dataset.hold, dataset.seq_len)
         runs = [channels(r) for _, r in sims.iterrows()]
         F = simulated_objectives(
             names, ctx.policy, X, runs, force_t, dataset.hold, ctx.robot.pre_pressure
         )
-    return Measured(X, F, f"refine:{k}")
+    return Measured(X, F, origin)
 
 
 def nominees_of(
     measured: list[Measured], limit: int, cfg: Optimize, refused: np.ndarray | None = None
 ) -> Nominees | None:
-    """The first ``limit`` of the rounds' clean points: the pool's non-dominated layers on the
+    """The first ``limit`` of the clean points the acquisition and the rounds measured: the pool's non-dominated layers on the
     robot's first two priorities (MST-M3F: pull and body jitter), in RHS order (``cfg``'s alpha
     and beta, on every simulated objective) within a layer. RHS's alpha cut presumes a front:
     over the whole pool, whose pull runs up to 12 N, its first cut kept pulls to 8 N. A front

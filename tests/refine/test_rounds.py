@@ -1,8 +1,11 @@
 """A refinement round's decisions, without files or tracking: the stop rule (fidelity on the first
 priority *and* a front the simulator passes), the nominees, what a round carries to the next."""
 
+from pathlib import Path
+
 import numpy as np
 import pyarrow as pa
+import pyarrow.parquet as pq
 import pytest
 
 from ftfof.config import Optimize, Refine, RefineTarget, Train
@@ -11,10 +14,12 @@ from ftfof.evaluate.fidelity import fidelity
 from ftfof.evaluate.runs import OPTIMUM
 from ftfof.optimize.select import rhs_ranking
 from ftfof.refine.rounds import (
+    ACQUIRED,
     Measured,
     Round,
     Rounds,
     Verdict,
+    acquired_points,
     fine_tuning,
     nominees_of,
     nothing_new,
@@ -67,6 +72,34 @@ def test_nominees_are_the_pools_pull_jitter_layers_in_rhs_order():
     unknown = [Measured(X1, np.where(np.arange(3)[:, None] == 2, np.nan, F1), "refine:1")]
     np.testing.assert_array_equal(nominees_of(unknown, 9, cfg).X, X1[[1, 0]])
     assert nominees_of([Measured(np.empty((0, 12)), np.empty((0, 2)), "refine:1")], 3, cfg) is None
+
+
+# five rows of the default robot's paper-scale acquisition, as the simulator wrote them: sampled:1
+# and sampled:156 clean, sampled:0 bent its film to 4.9 mm, sampled:105 shook the body to 2.9 m/s²,
+# then the polynomial baseline (clean, but no decision row)
+ACQUIRED_ROWS = Path(__file__).parents[1] / "data" / "acquired_rows.parquet"
+
+
+def test_the_acquisitions_clean_sampled_runs_are_candidates_with_their_objectives(m3f, params):
+    table = pq.read_table(ACQUIRED_ROWS)
+    points = acquired_points(m3f, table, params.dataset)
+    assert points.origin == ACQUIRED
+    keys = table.column("key").to_pylist()
+    X = table.to_pandas()[list(DECISION_NAMES)].to_numpy(float)
+    np.testing.assert_array_equal(points.X, X[[keys.index("sampled:1"), keys.index("sampled:156")]])
+    # the simulated pull and jitter, the objectives the check would measure (reference values)
+    np.testing.assert_allclose(points.F[:, :2], [[6.968, 1.353], [7.441, 2.140]], atol=2e-3)
+    # a failed run is no candidate either, whatever its channels say
+    failed = table.set_column(
+        table.schema.get_field_index("status"),
+        "status",
+        pa.array(["failed" if k == "sampled:1" else "ok" for k in keys]),
+    )
+    np.testing.assert_array_equal(acquired_points(m3f, failed, params.dataset).X, points.X[1:])
+    # they lead the pool: sampled:1 is a better trade than a round's point it dominates
+    round_1 = Measured(X[[0]] + 1e-3, np.array([[7.1, 1.5, 0, 0, 0, 0]]), "refine:1")
+    chosen = nominees_of([points, round_1], 1, Optimize())
+    assert chosen.origin == [ACQUIRED] and np.array_equal(chosen.X, points.X[:1])
 
 
 def _table(X: np.ndarray, status: list[str], source: list[str] | None = None) -> pa.Table:

@@ -129,7 +129,7 @@ def test_final_models_and_optimum_are_the_last_rounds(optimized, refined):
 def test_the_rounds_clean_points_join_the_simulator_check(optimized, refined):
     second = pq.read_table(refined / "round-2" / "optimize" / "front.parquet").to_pandas()
     nominated = second[second.origin != "front"]
-    assert set(nominated.origin) <= {"refine:1", "refine:2"}
+    assert set(nominated.origin) <= {"acquire", "refine:1", "refine:2"}
     assert (second.origin == "front").iloc[: len(second) - len(nominated)].all()  # after the front
     checked = json.loads((refined / "round-2" / "optimize" / "optimum.json").read_text())
     rows = {v["row"] for v in checked["simulator_check"]}

@@ -186,7 +186,11 @@ def run_faults(row: pd.Series, figures: dict[str, float], rules: FootRules) -> F
         np.asarray(row.t, dtype=float),
         np.asarray(row.bonds, dtype=float),
         np.asarray(row.Fp, dtype=float),
-        {**figures, "switch_time": float(row.switch_time), "max_clearance": float(row.max_clearance)},
+        {
+            **figures,
+            "switch_time": float(row.switch_time),
+            "max_clearance": float(row.max_clearance),
+        },
         rules,
     )
 

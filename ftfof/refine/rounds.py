@@ -41,9 +41,9 @@ ACQUIRED = "acquire"  # the origin of nominees the acquisition measured
 
 @dataclass(frozen=True)
 class Measured:
-    """The acquisition's or a round's clean simulated points (the pad let go, the film survived, the foot landed, the
-    body stayed within its limit): decision rows (m) and their objectives from the simulated
-    forces, in priority order."""
+    """The acquisition's or a round's clean simulated points (the pad let go, the film
+    survived, the foot landed, the body stayed within its limit): decision rows (m) and their
+    objectives from the simulated forces, in priority order."""
 
     X: np.ndarray
     F: np.ndarray
@@ -206,14 +206,14 @@ def clean_points(ctx: RobotContext, sims: pd.DataFrame, dataset: Dataset, origin
 def nominees_of(
     measured: list[Measured], limit: int, cfg: Optimize, refused: np.ndarray | None = None
 ) -> Nominees | None:
-    """The first ``limit`` of the clean points the acquisition and the rounds measured: the pool's non-dominated layers on the
-    robot's first two priorities (MST-M3F: pull and body jitter), in RHS order (``cfg``'s alpha
-    and beta, on every simulated objective) within a layer. RHS's alpha cut presumes a front:
-    over the whole pool, whose pull runs up to 12 N, its first cut kept pulls to 8 N. A front
-    of all objectives would not help: nearly every point is best at one of six. A trajectory
-    simulated in several rounds counts once, with its first round's values; one the simulator
-    check ``refused`` (decision rows) is left out, as is one with a non-finite objective. None
-    when there are none."""
+    """The first ``limit`` of the clean points the acquisition and the rounds measured: the
+    pool's non-dominated layers on the robot's first two priorities (MST-M3F: pull and body
+    jitter), in RHS order (``cfg``'s alpha and beta, on every simulated objective) within a
+    layer. RHS's alpha cut presumes a front: over the whole pool, whose pull runs up to 12 N,
+    its first cut kept pulls to 8 N. A front of all objectives would not help: nearly every
+    point is best at one of six. A trajectory simulated more than once counts once, with its
+    first values; one the simulator check ``refused`` (decision rows) is left out, as is one
+    with a non-finite objective. None when there are none."""
     from pymoo.util.nds.non_dominated_sorting import NonDominatedSorting
 
     if limit == 0 or not measured:

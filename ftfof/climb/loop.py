@@ -107,6 +107,7 @@ class ClimbLoop:
         self.feedforward = np.zeros_like(self.offsets)
         self.next_control = 0.0
         self.force_columns = channel_slices()["force"]
+        self.latch = np.full(LEGS, np.nan)  # the body's error as each yielding foot began
 
     def __call__(self, mbs, t: float) -> bool:
         q = self.data.GetODE2Coordinates(copy=False)
@@ -255,6 +256,13 @@ class ClimbLoop:
         rel = feet.copy()  # in each leg's trajectory frame: x from its hip's P0, z off the wall
         rel[:, 0] += chain.hip[0] - body[0] - gait.hips
         rel_v = feet_v - np.array([body_v[0], 0.0])
+        if self.control is not None:  # a yielding foot's target follows the body's error
+            q = self.data.GetODE2Coordinates(copy=False)
+            qd = self.data.GetODE2Coordinates_t(copy=False)
+            error = (q[self.tree] - body[0], qd[self.tree] - body_v[0])
+            shift, shift_v, self.latch = yield_shift(self.control.yielding, self.latch, *error)
+            rel[:, 0] -= shift
+            rel_v[:, 0] -= shift_v
         theta = chain.leg.inverse(rel)
         if not np.all(np.isfinite(theta)):
             return  # out of reach: keep the last targets (the run's checks refuse such paths)
@@ -336,6 +344,18 @@ class ClimbLoop:
         if self.fall is None and off > self.fall_distance:
             self.fall = Fall(t, f"the body left its plan by {1e3 * off:.1f} mm at t = {t:.3f} s")
         return self.fall is not None
+
+
+def yield_shift(
+    yielding: Array, latch: Array, error: float, error_v: float
+) -> tuple[Array, Array, Array]:
+    """Each foot's target shift along the wall (m, m/s) and the latches after this step: a
+    yielding foot's target moves with the body's error from its plan (``error``, ``error_v``)
+    since the foot began to yield (its latch), so its servo holds it where it was on the wall
+    and the shift starts from 0; the others' shifts are 0 and their latches cleared (NaN)."""
+    latch = np.where(yielding, np.where(np.isnan(latch), error, latch), np.nan)
+    shift = np.where(yielding, error - latch, 0.0)
+    return shift, np.where(yielding, error_v, 0.0), latch
 
 
 def _series_stiffness(robot: Climber) -> float:

@@ -107,7 +107,7 @@ class ClimbLoop:
         self.feedforward = np.zeros_like(self.offsets)
         self.next_control = 0.0
         self.force_columns = channel_slices()["force"]
-        self.latch = np.full(LEGS, np.nan)  # the body's error as each yielding foot began
+        self.anchors = Anchors.none()  # the feet the controller holds on the wall, and how
 
     def __call__(self, mbs, t: float) -> bool:
         q = self.data.GetODE2Coordinates(copy=False)
@@ -126,7 +126,7 @@ class ClimbLoop:
         if swing >= 0:
             self._press(swing, tau, q, qd)
         self._sole(tau, swing)
-        self._targets(t, tau, swing)
+        self._targets(t, tau, swing, q, qd)
         if self.control is not None and t >= self.next_control - 1e-12:
             self._control(t, q, qd, tau, swing)
             self.next_control += 1.0 / CONTROL_RATE_HZ
@@ -247,22 +247,23 @@ class ClimbLoop:
         out[leg] = self.press_depth[leg] * (1.0 - float(min_jerk(np.array(release))[0]))
         return out
 
-    def _targets(self, t: float, tau: float, swing: int) -> None:
-        """Joint targets: each foot's gait target, relative to the hip on the body's plan."""
+    def _targets(self, t: float, tau: float, swing: int, q: Array, qd: Array) -> None:
+        """Joint targets: each foot's gait target, relative to the hip on the body's plan; an
+        anchored foot's (:class:`Anchors`) moved with the body's error from its plan, so that
+        it stays where it was on the wall."""
         gait, chain = self.r.gait, self.r.chain
         feet, feet_v = gait.feet(t)
         body, body_v = self.plan(np.array([t]))
         feet[:, 1] -= self._applied_press(tau, swing)
-        rel = feet.copy()  # in each leg's trajectory frame: x from its hip's P0, z off the wall
-        rel[:, 0] += chain.hip[0] - body[0] - gait.hips
-        rel_v = feet_v - np.array([body_v[0], 0.0])
-        if self.control is not None:  # a yielding foot's target follows the body's error
-            q = self.data.GetODE2Coordinates(copy=False)
-            qd = self.data.GetODE2Coordinates_t(copy=False)
+        if self.control is not None:
+            fade = np.zeros(LEGS)  # of a released foot's shift: it fades over the foot's swing
+            if swing >= 0 and tau < gait.swing:
+                fade[swing] = 1.0 - float(min_jerk(np.array(tau / gait.swing))[0])
             error = (q[self.tree] - body[0], qd[self.tree] - body_v[0])
-            shift, shift_v, self.latch = yield_shift(self.control.yielding, self.latch, *error)
-            rel[:, 0] -= shift
-            rel_v[:, 0] -= shift_v
+            self.anchors = self.anchors.step(self.control.anchored, fade, *error)
+            feet[:, 0] += self.anchors.shift
+            feet_v[:, 0] += self.anchors.shift_v
+        rel, rel_v = hip_frame(feet, feet_v, body[0], body_v[0], chain.hip[0], gait.hips)
         theta = chain.leg.inverse(rel)
         if not np.all(np.isfinite(theta)):
             return  # out of reach: keep the last targets (the run's checks refuse such paths)
@@ -346,16 +347,49 @@ class ClimbLoop:
         return self.fall is not None
 
 
-def yield_shift(
-    yielding: Array, latch: Array, error: float, error_v: float
-) -> tuple[Array, Array, Array]:
-    """Each foot's target shift along the wall (m, m/s) and the latches after this step: a
-    yielding foot's target moves with the body's error from its plan (``error``, ``error_v``)
-    since the foot began to yield (its latch), so its servo holds it where it was on the wall
-    and the shift starts from 0; the others' shifts are 0 and their latches cleared (NaN)."""
-    latch = np.where(yielding, np.where(np.isnan(latch), error, latch), np.nan)
-    shift = np.where(yielding, error - latch, 0.0)
-    return shift, np.where(yielding, error_v, 0.0), latch
+def hip_frame(
+    feet: Array, feet_v: Array, body: float, body_v: float, hip: float, hips: Array
+) -> tuple[Array, Array]:
+    """The feet's wall targets (m, m/s; x along the wall, z off it) in each leg's trajectory
+    frame, the one the servos' inverse kinematics takes: x from its hip's P0 with the body at
+    ``body``, z off the wall. A servo holding these places each foot on the wall at ``rel`` +
+    the body's x + ``hips`` - ``hip``: where the body really is, not where it was planned."""
+    rel = feet.copy()
+    rel[:, 0] += hip - body - hips
+    return rel, feet_v - np.array([body_v, 0.0])
+
+
+@dataclass(frozen=True)
+class Anchors:
+    """The feet the controller holds where they are on the wall (its ``anchored`` feet) and each
+    foot's shift of its gait target along the wall. The servo places a foot relative to the
+    body, so a foot lands on the wall where its target says plus the body's error from its
+    plan; an anchored foot's target is shifted back by that error's change since it was
+    anchored (``origin``, the error then), which keeps it where it was on the wall whatever the
+    body does; the shift starts from 0. A foot released as it lifts keeps the shift it had
+    (``released``), faded to 0 over its swing, so its target does not jump under the pad it is
+    peeling."""
+
+    origin: Array  # the body's error when each anchored foot was anchored (NaN: not anchored)
+    released: Array  # m, a released foot's shift as it was released (0: none to fade)
+    shift: Array  # m, each foot's target shift now
+    shift_v: Array  # m/s
+
+    @classmethod
+    def none(cls) -> Anchors:
+        zero = np.zeros(LEGS)
+        return cls(np.full(LEGS, np.nan), zero, zero, zero)
+
+    def step(self, anchored: Array, fade: Array, error: float, error_v: float) -> Anchors:
+        """The anchors after one step: the ``anchored`` feet now, the fraction of a released
+        foot's shift left (``fade``: 1 as its swing starts, 0 from its end), the body's
+        ``error`` from its plan along the wall and its rate."""
+        was = ~np.isnan(self.origin)
+        origin = np.where(anchored, np.where(was, self.origin, error), np.nan)
+        released = np.where(was & ~anchored, self.origin - error, self.released)
+        shift = np.where(anchored, origin - error, released * fade)
+        released = np.where(anchored | (fade <= 0.0), 0.0, released)
+        return Anchors(origin, released, shift, np.where(anchored, -error_v, 0.0))
 
 
 def _series_stiffness(robot: Climber) -> float:

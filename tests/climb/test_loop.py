@@ -1,29 +1,66 @@
-"""The climb loop's pure parts: how a yielding foot's joint target follows the body."""
+"""The climb loop's pure parts: how an anchored foot's joint target follows the body."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from ftfof.climb.loop import yield_shift
+from ftfof.climb.loop import Anchors, hip_frame
+
+HIP = 0.03
+HIPS = np.array([0.1, 0.1, -0.1, -0.1])
+FR = np.array([False, True, False, False])
+NO_FADE = np.zeros(4)
 
 
-def test_a_yielding_foots_target_follows_the_bodys_error_since_it_began_to_yield():
-    latch = np.full(4, np.nan)
-    yielding = np.array([False, True, False, False])
-    shift, shift_v, latch = yield_shift(yielding, latch, -0.0014, -0.01)
-    # it starts where the foot is: no jump of the target when the yield begins
-    np.testing.assert_array_equal(shift, 0.0)
-    np.testing.assert_array_equal(shift_v, [0.0, -0.01, 0.0, 0.0])
-    assert latch[1] == -0.0014 and np.isnan(latch[[0, 2, 3]]).all()
-    # the body sags 2 mm more: the foot's target moves down with it, the others' stay
-    shift, _, latch = yield_shift(yielding, latch, -0.0034, 0.0)
-    np.testing.assert_allclose(shift, [0.0, -0.002, 0.0, 0.0])
-    assert latch[1] == -0.0014  # kept while it yields
-    # a second foot begins to yield: from where it is, with its own latch
-    both = np.array([True, True, False, False])
-    shift, _, latch = yield_shift(both, latch, -0.0040, 0.0)
-    np.testing.assert_allclose(shift, [0.0, -0.0026, 0.0, 0.0])
-    # the first lifts: its latch is cleared, its target is the gait's again
-    shift, shift_v, latch = yield_shift(np.array([True, False, False, False]), latch, -0.004, 0.0)
-    np.testing.assert_array_equal(shift, 0.0)
-    assert np.isnan(latch[1]) and latch[0] == -0.0040
+def _on_wall(targets: np.ndarray, planned: float, actual: float) -> np.ndarray:
+    """Where a servo holding ``targets`` (gait targets with the body on its plan ``planned``)
+    puts each foot along the wall with the body at ``actual``."""
+    rel, _ = hip_frame(targets, np.zeros_like(targets), planned, 0.0, HIP, HIPS)
+    return rel[:, 0] + actual + HIPS - HIP
+
+
+def test_an_anchored_foot_stays_where_it_was_on_the_wall_as_the_body_sags():
+    feet = np.stack([HIPS + 0.01, np.zeros(4)], axis=1)
+    anchors = Anchors.none()
+    sags = (-0.0014, -0.0034, -0.0021)  # the body's error from its plan, m
+    placed = []
+    for sag in sags:
+        anchors = anchors.step(FR, NO_FADE, sag, 0.0)
+        targets = feet.copy()
+        targets[:, 0] += anchors.shift
+        placed.append(_on_wall(targets, 0.2, 0.2 + sag))
+    placed = np.array(placed)
+    # FR is held where it was when anchored; the others ride on the body, as before
+    np.testing.assert_allclose(placed[:, 1], placed[0, 1], atol=1e-15)
+    np.testing.assert_allclose(placed[:, 0] - placed[0, 0], np.array(sags) - sags[0])
+    assert anchors.shift[1] == -0.0014 - -0.0021  # shifted back by the sag since anchoring
+
+
+def test_an_anchor_starts_from_zero_keeps_its_origin_and_each_foot_has_its_own():
+    anchors = Anchors.none().step(FR, NO_FADE, -0.0014, -0.01)
+    np.testing.assert_array_equal(anchors.shift, 0.0)  # no jump as the anchor begins
+    np.testing.assert_array_equal(anchors.shift_v, [0.0, 0.01, 0.0, 0.0])  # against the body's
+    anchors = anchors.step(FR, NO_FADE, -0.0034, 0.0)
+    np.testing.assert_allclose(anchors.shift, [0.0, 0.002, 0.0, 0.0])
+    two = np.array([True, True, False, False])
+    anchors = anchors.step(two, NO_FADE, -0.0040, 0.0)
+    np.testing.assert_allclose(anchors.shift, [0.0, 0.0026, 0.0, 0.0])
+    assert anchors.origin[1] == -0.0014 and anchors.origin[0] == -0.0040
+
+
+def test_a_released_foot_fades_its_shift_over_its_swing_instead_of_jumping():
+    anchors = Anchors.none().step(FR, NO_FADE, -0.001, 0.0)
+    anchors = anchors.step(FR, NO_FADE, -0.004, 0.0)  # held 3 mm back up the wall
+    lifting = np.array([0.0, 1.0, 0.0, 0.0])
+    anchors = anchors.step(np.zeros(4, dtype=bool), lifting, -0.0045, 0.0)
+    # released: the shift it had as the anchor was let go, not the body's error since
+    np.testing.assert_allclose(anchors.shift, [0.0, 0.0035, 0.0, 0.0])
+    assert np.isnan(anchors.origin).all()
+    anchors = anchors.step(np.zeros(4, dtype=bool), 0.5 * lifting, -0.001, 0.0)
+    np.testing.assert_allclose(anchors.shift, [0.0, 0.00175, 0.0, 0.0])
+    anchors = anchors.step(np.zeros(4, dtype=bool), NO_FADE, -0.001, 0.0)  # the swing is over
+    np.testing.assert_array_equal(anchors.shift, 0.0)
+    np.testing.assert_array_equal(anchors.released, 0.0)
+    # a foot let go off the swing (its pad lost its bonds) drops its shift at once
+    anchors = Anchors.none().step(FR, NO_FADE, -0.001, 0.0).step(FR, NO_FADE, -0.003, 0.0)
+    np.testing.assert_array_equal(anchors.step(FR & False, NO_FADE, -0.003, 0.0).shift, 0.0)

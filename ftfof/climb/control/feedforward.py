@@ -21,8 +21,8 @@ wrench's moment leaves them out. Controllers:
 - ``none``: the QP at the nominal weights and the nominal pads;
 - ``weights``: a stance foot detected slipping (:class:`~ftfof.climb.control.slip.SlipDetector`)
   gets its weights adapted by its slip rate (climbing_slip §5), the rate held at its highest
-  until the stance changes (§6.3: the paper's weights start anew with each phase), and yields
-  (:attr:`FeedForward.yielding`) until it lifts;
+  until the stance changes (§6.3: the paper's weights start anew with each phase), and is
+  anchored (:attr:`FeedForward.anchored`) until it lifts;
 - ``replan``: a foot detected slipping has its pad estimated from its last ESTIMATE_SAMPLES force
   samples; the estimate replaces the nominal pad in the QP, and goes to the re-planner
   (:mod:`ftfof.climb.control.replan`), whose plan the loop then tracks;
@@ -106,13 +106,14 @@ class FeedForward:
         self.held_rate = np.zeros(len(self.pads.friction))  # each foot's slip rate held this phase
         self.phase = np.zeros(len(self.pads.friction), dtype=bool)  # the stance it belongs to
         # The feet whose servos hold them where they are on the wall, whatever the body does
-        # (the loop shifts their joint targets by the body's error from its plan): a slipping
-        # foot under weight adaptation, from its slip until it lifts. On these position servos
-        # the joint PD, not the QP, sets most of a stance foot's tangential force: it holds the
-        # foot on the body, so a pad that cannot carry its share slid with the body's sag on the
-        # other feet's films (4.7 mm under `none` on the slip scenario, the sag 4.1 mm), and
-        # lower QP weights alone changed little (docs/decisions/0023-a-slipping-foot-yields.md).
-        self.yielding = np.zeros(len(self.pads.friction), dtype=bool)
+        # (the loop moves their targets with the body's error from its plan,
+        # :class:`~ftfof.climb.loop.Anchors`): a slipping foot under weight adaptation, from
+        # its slip until it lifts. On position servos the joint PD, not the QP, sets most of a
+        # stance foot's tangential force: it holds the foot on the body, so a pad that cannot
+        # carry its share slides with the body's sag on the other feet's films (the slip
+        # scenario under `none`: HR's pad 4.5 mm down as the body fell 4.8 mm behind its plan),
+        # and lower QP weights alone changed little (docs/decisions/0023-anchored-slipping-foot.md).
+        self.anchored = np.zeros(len(self.pads.friction), dtype=bool)
 
     def step(
         self,
@@ -135,7 +136,7 @@ class FeedForward:
         weights = self.weights
         if self.mode in ("weights", "both"):
             weights = adapt_weights(weights, self._hold_rate(slip_velocity, slipping, stance))
-            self.yielding = (self.yielding | slipping) & stance
+            self.anchored = (self.anchored | slipping) & stance
         new_plan = None
         if self.mode in ("replan", "both"):
             for foot in np.flatnonzero(slipping & ~was):

@@ -206,24 +206,24 @@ def test_replan_believes_no_pad_whose_fit_holds_less_than_nothing(m3f):
 
 
 @pytest.mark.parametrize("mode", ["weights", "both"])
-def test_a_slipping_foot_yields_under_weight_adaptation_until_it_lifts(m3f, mode):
+def test_a_slipping_foot_is_anchored_under_weight_adaptation_until_it_lifts(m3f, mode):
     controller, chain = _controller(m3f, mode)
     steps = round(SLIP_HOLD * CONTROL_RATE_HZ) + 2
     _run(controller, chain, np.zeros(4), steps)
-    assert not controller.yielding.any()  # nothing slid
+    assert not controller.anchored.any()  # nothing slid
     _run(controller, chain, SLIDING, steps)
-    assert controller.yielding.tolist() == [False, True, False, False]
+    assert controller.anchored.tolist() == [False, True, False, False]
     _run(controller, chain, np.zeros(4), 1)
-    assert controller.yielding[1]  # the slide stopped: FR still yields
+    assert controller.anchored[1]  # the slide stopped: FR is still anchored
     _run(controller, chain, np.zeros(4), 1, stance=np.array([True, True, True, False]))
-    assert controller.yielding[1]  # HR lifted, a new phase: FR's weights reset, it yields on
+    assert controller.anchored[1]  # HR lifted, a new phase: FR's weights reset, it stays anchored
     assert controller.held_rate.sum() == 0
     _run(controller, chain, np.zeros(4), 1, stance=np.array([True, False, True, True]))
-    assert not controller.yielding.any()  # FR lifted
+    assert not controller.anchored.any()  # FR lifted
 
 
 @pytest.mark.parametrize("mode", ["none", "replan"])
-def test_without_weight_adaptation_no_foot_yields(m3f, mode):
+def test_without_weight_adaptation_no_foot_is_anchored(m3f, mode):
     controller, chain = _controller(m3f, mode)
     _run(controller, chain, SLIDING, round(SLIP_HOLD * CONTROL_RATE_HZ) + 2)
-    assert controller.counts.slips == 1 and not controller.yielding.any()
+    assert controller.counts.slips == 1 and not controller.anchored.any()

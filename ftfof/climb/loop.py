@@ -255,7 +255,7 @@ class ClimbLoop:
         feet, feet_v = gait.feet(t)
         body, body_v = self.plan(np.array([t]))
         feet[:, 1] -= self._applied_press(tau, swing)
-        if self.control is not None:
+        if self.control is not None and (self.control.anchored.any() or self.anchors.active):
             fade = np.zeros(LEGS)  # of a released foot's shift: it fades over the foot's swing
             if swing >= 0 and tau < gait.swing:
                 fade[swing] = 1.0 - float(min_jerk(np.array(tau / gait.swing))[0])
@@ -377,8 +377,13 @@ class Anchors:
 
     @classmethod
     def none(cls) -> Anchors:
-        zero = np.zeros(LEGS)
-        return cls(np.full(LEGS, np.nan), zero, zero, zero)
+        return cls(np.full(LEGS, np.nan), np.zeros(LEGS), np.zeros(LEGS), np.zeros(LEGS))
+
+    @property
+    def active(self) -> bool:
+        """Whether any foot is anchored or fading: if not, every shift is 0 and stays so until
+        the controller anchors a foot (the loop skips the step then)."""
+        return bool((~np.isnan(self.origin)).any() or self.released.any())
 
     def step(self, anchored: Array, fade: Array, error: float, error_v: float) -> Anchors:
         """The anchors after one step: the ``anchored`` feet now, the fraction of a released

@@ -93,8 +93,9 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> dict[str, A
         raise DataError(str(paths.dataset), "was built with other dataset params (re-run it)")
     key = _open(params, paths)
     state = State(paths.models, paths.optimize)
-    acquired = read_table(paths.acquisition / FINAL, ACQUISITION, "acquisition")
-    state.rounds.measure(rounds.acquired_points(ctx, acquired, params.dataset))
+    if params.refine.rounds and params.refine.nominate:  # no search would nominate them
+        acquired = read_table(paths.acquisition / FINAL, ACQUISITION, "acquisition")
+        state.rounds.measure(rounds.acquired_points(ctx, acquired, params.dataset))
     done_rounds: list[Round] = []
     # the run is open for the rounds: it spans them
     with RefineRun(params, paths.models, paths.optimize, paths.out) as tracked:

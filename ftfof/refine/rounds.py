@@ -187,10 +187,8 @@ def clean_points(ctx: RobotContext, sims: pd.DataFrame, dataset: Dataset, origin
     """The simulations ``sims`` (acquisition rows) a real foot could run, with their simulated
     objectives (binned as the surrogate's targets, as the simulator check computes them)."""
     T3 = ctx.policy.timing.T3
-    clean = np.array(
-        [run_faults(r, figures_of(r, T3), ctx.rules).clean for _, r in sims.iterrows()], dtype=bool
-    )
-    sims = sims[clean] if len(sims) else sims
+    clean = [run_faults(r, figures_of(r, T3), ctx.rules).clean for _, r in sims.iterrows()]
+    sims = sims[np.array(clean, dtype=bool)]
     X = sims[list(DECISION_NAMES)].to_numpy(dtype=float)
     names = ctx.robot.objectives
     F = np.empty((0, len(names)))

@@ -64,3 +64,16 @@ def test_a_released_foot_fades_its_shift_over_its_swing_instead_of_jumping():
     # a foot let go off the swing (its pad lost its bonds) drops its shift at once
     anchors = Anchors.none().step(FR, NO_FADE, -0.001, 0.0).step(FR, NO_FADE, -0.003, 0.0)
     np.testing.assert_array_equal(anchors.step(FR & False, NO_FADE, -0.003, 0.0).shift, 0.0)
+
+
+def test_anchors_are_active_from_an_anchor_until_its_released_shift_has_faded():
+    assert not Anchors.none().active
+    anchors = Anchors.none().step(FR, NO_FADE, -0.001, 0.0)
+    assert anchors.active
+    anchors = anchors.step(FR, NO_FADE, -0.003, 0.0)
+    lifting = np.array([0.0, 0.5, 0.0, 0.0])
+    anchors = anchors.step(np.zeros(4, dtype=bool), lifting, -0.003, 0.0)
+    assert anchors.active  # fading
+    anchors = anchors.step(np.zeros(4, dtype=bool), NO_FADE, -0.003, 0.0)
+    assert not anchors.active
+    np.testing.assert_array_equal(anchors.shift, Anchors.none().shift)

@@ -196,6 +196,10 @@ class Polish(Strict):
     # fresh perturbed copies each polished trajectory is simulated with again before RHS chooses
     # (on these runs): the search chose among fixed draws, which flatters its best
     confirm_copies: PositiveInt = 4
+    # the search ranks each trajectory by the mean plus this many standard deviations of each
+    # objective over its runs: a trajectory whose jitter swings with a 0.2 mm encoder error is
+    # not one a robot can count on (0: the mean alone)
+    risk_sigmas: NonNegativeFloat = 1.0
 
 
 class SurfaceChange(Strict):

@@ -34,9 +34,10 @@ POLISH = "polish"  # the origin of polished rows in a front table
 
 class SimulatedProblem(Problem):
     """The robot's first ``priorities`` objectives as the simulator check measures them (the
-    mean over its runs), with two constraints: the rules on ``policy``'s grid (the summed
-    violation) and the check's verdict (1 refused, 0 passed). Rows that break a rule are not
-    simulated. Every simulated row's verdict is kept by its decision bytes."""
+    mean over its runs, plus ``risk`` times their standard deviation there), with two
+    constraints: the rules on ``policy``'s grid (the summed violation) and the check's verdict
+    (1 refused, 0 passed). Rows that break a rule are not simulated. Every simulated row's
+    verdict is kept by its decision bytes."""
 
     def __init__(
         self,
@@ -45,11 +46,12 @@ class SimulatedProblem(Problem):
         priorities: int,
         first_row: int,
         known: dict[bytes, Verdict] | None = None,
+        risk: float = 0.0,
     ):
         super().__init__(
             n_var=policy.n_free, n_obj=priorities, n_ieq_constr=2, xl=policy.lower, xu=policy.upper
         )
-        self.policy, self.check, self.priorities = policy, check, priorities
+        self.policy, self.check, self.priorities, self.risk = policy, check, priorities, risk
         self.known = dict(known or {})  # verdicts measured before the search: not simulated again
         self.verdicts: dict[bytes, Verdict] = {}
         self.next_row = first_row  # the row the check gets for the next simulated trajectory
@@ -70,7 +72,7 @@ class SimulatedProblem(Problem):
             seen[X[i].tobytes()] = self.verdicts[X[i].tobytes()] = verdict
         for i in feasible:
             verdict = seen[X[i].tobytes()]
-            values = np.asarray(verdict.simulated[: self.priorities], dtype=float)
+            values = self.ranked(verdict)
             if verdict.ok and values.size == self.priorities and np.isfinite(values).all():
                 F[i] = values
                 refused[i] = 0.0
@@ -79,6 +81,14 @@ class SimulatedProblem(Problem):
         measured = ~np.isnan(F[:, 0])
         out["F"] = np.where(np.isnan(F), F[measured].max(axis=0) if measured.any() else 0.0, F)
         out["G"] = np.column_stack([broken, refused])
+
+    def ranked(self, verdict: Verdict) -> np.ndarray:
+        """What the search weighs of a verdict: the mean over its runs, plus ``risk`` standard
+        deviations where it has them (a row simulated once has none)."""
+        values = np.asarray(verdict.simulated[: self.priorities], dtype=float)
+        if self.risk and len(verdict.spread) >= self.priorities:
+            values = values + self.risk * np.asarray(verdict.spread[: self.priorities], dtype=float)
+        return values
 
 
 @dataclass(frozen=True)
@@ -141,17 +151,19 @@ def polish(
     first_row: int = 0,
     start_verdicts: Sequence[Verdict] | None = None,
     on_record: Callable[[ConvergenceRecord], None] | None = None,
+    risk: float = 0.0,
 ) -> Polished:
-    """NSGA-II on :class:`SimulatedProblem` from ``start`` (full decision rows, filled up to the
-    population with copies off by ``spread``). ``start_verdicts``, one per start row, are the
-    check's earlier verdicts on them: taken as measured, not simulated again. Deterministic for
-    the seed and the check. An empty result when no trajectory passed; ``on_record`` hears of
-    each generation."""
+    """NSGA-II on :class:`SimulatedProblem` (``risk`` standard deviations over each mean) from
+    ``start`` (full decision rows, filled up to the population with copies off by ``spread``).
+    ``start_verdicts``, one per start row, are the check's earlier verdicts on them: taken as
+    measured, not simulated again. Deterministic for the seed and the check. An empty result
+    when no trajectory passed; ``on_record`` hears of each generation. The result's layers are
+    those of the means: the confirmation measures them again and RHS chooses on its means."""
     started = time.perf_counter()
     as_searched = policy.expand(policy.contract(np.atleast_2d(start)))  # the bytes pymoo asks
     earlier = start_verdicts if start_verdicts is not None else [None] * len(as_searched)
     known = {x.tobytes(): v for x, v in zip(as_searched, earlier, strict=True) if v is not None}
-    problem = SimulatedProblem(policy, check, priorities, first_row, known)
+    problem = SimulatedProblem(policy, check, priorities, first_row, known, risk)
     initial = start_population(start, settings.population, spread, settings.seed, policy)
     result = search(problem, settings, initial, on_record)
     measured = {**problem.known, **problem.verdicts}
@@ -229,6 +241,7 @@ def polish_report(
         "simulated": result.simulated,
         "refused": result.refused,
         "confirm_copies": cfg.confirm_copies,
+        "risk_sigmas": cfg.risk_sigmas,
         "search_seconds": round(result.seconds, 2),
         "start": {"row": start_row, "simulated": named(before.simulated)},
         "optimum": {

@@ -130,7 +130,16 @@ def _polish(
             bar.update(task, completed=r.generation, info=info)
 
         result = polish(
-            fine, check, start, settings, cfg.priorities, cfg.spread, FIRST_ROW, passed, record
+            fine,
+            check,
+            start,
+            settings,
+            cfg.priorities,
+            cfg.spread,
+            FIRST_ROW,
+            passed,
+            record,
+            cfg.risk_sigmas,
         )
     if not len(result.X):
         why = f"none of the {result.simulated} trajectories simulated passed the check"

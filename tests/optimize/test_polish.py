@@ -4,6 +4,8 @@ make the search's behaviour checkable. The platform itself runs in
 tests/stages/test_polish_stage.py.
 """
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -155,3 +157,25 @@ def test_best_layers_keep_whole_non_dominated_layers_of_passed_trajectories():
     assert best_layers(measured, 2, 3) == [b"a", b"b", b"c", b"d"]  # the second layer whole
     assert best_layers(measured, 2, 10) == [b"a", b"b", b"c", b"d", b"e"]
     assert best_layers({b"f": measured[b"f"]}, 2, 4) == []
+
+
+def test_risk_ranks_a_trajectory_by_its_mean_plus_its_spread(m3f, start):
+    """With ``risk`` the search weighs a steady trajectory above one whose mean is lower but
+    swings between runs; without it, the mean alone decides."""
+    from ftfof.optimize.polish import SimulatedProblem
+
+    steady = Verdict(0, True, "", {}, [6.8, 1.0, 0.0], [0.02, 0.02, 0.0], 3)
+    swinging = Verdict(1, True, "", {}, [6.7, 0.9, 0.0], [0.3, 0.4, 0.0], 3)
+    once = Verdict(2, True, "", {}, [6.9, 1.1, 0.0], [], 1)
+
+    def check(rows, X):
+        return [replace(v, row=r) for v, r in zip((steady, swinging, once), rows, strict=True)]
+
+    U = m3f.policy.contract(start[:3])
+    assert m3f.policy.check(start[:3]).feasible.all()
+    plain, cautious = {}, {}
+    SimulatedProblem(m3f.policy, check, 2, 0)._evaluate(U, plain)
+    SimulatedProblem(m3f.policy, check, 2, 0, risk=1.0)._evaluate(U, cautious)
+    np.testing.assert_allclose(plain["F"], [[6.8, 1.0], [6.7, 0.9], [6.9, 1.1]])
+    np.testing.assert_allclose(cautious["F"], [[6.82, 1.02], [7.0, 1.3], [6.9, 1.1]])
+    assert (plain["F"][1] < plain["F"][0]).all() and (cautious["F"][0] < cautious["F"][1]).all()

@@ -81,6 +81,17 @@ class Params(Strict):
         return self
 
     @model_validator(mode="after")
+    def _the_polish_has_a_spread_to_weigh(self) -> Params:
+        # one run per trajectory has no standard deviation: risk_sigmas would silently do nothing
+        if self.polish.risk_sigmas > 0 and self.optimize.verify_copies == 0:
+            raise ValueError(
+                f"polish.risk_sigmas: {self.polish.risk_sigmas:g} weighs the spread over each "
+                "trajectory's runs, but optimize.verify_copies is 0 (one run each); set "
+                "verify_copies to 1 or more, or risk_sigmas to 0"
+            )
+        return self
+
+    @model_validator(mode="after")
     def _the_dataset_sees_the_whole_landing_hold(self) -> Params:
         # fs3 is the landing pre-pressure: a base that ends inside the hold would miss its peak
         hold = self.platform.protocol.landing_hold

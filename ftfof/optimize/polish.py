@@ -97,7 +97,7 @@ class Polished:
 
     X: Array  # (k, 12) full decision rows the check passed: whole non-dominated layers
     verdicts: list[Verdict]  # in the order of X (rows as the check or the start numbered them)
-    history: tuple[ConvergenceRecord, ...]  # hypervolume of the measured front per generation
+    history: tuple[ConvergenceRecord, ...]  # per generation, hypervolume of the front searched on
     simulated: int  # trajectories the check judged in the search (each with its copies)
     refused: int  # of those, refused
     seconds: float
@@ -151,7 +151,8 @@ def polish(
     first_row: int = 0,
     start_verdicts: Sequence[Verdict] | None = None,
     on_record: Callable[[ConvergenceRecord], None] | None = None,
-    risk: float = 0.0,
+    *,
+    risk: float,
 ) -> Polished:
     """NSGA-II on :class:`SimulatedProblem` (``risk`` standard deviations over each mean) from
     ``start`` (full decision rows, filled up to the population with copies off by ``spread``).

@@ -139,7 +139,7 @@ def _polish(
             FIRST_ROW,
             passed,
             record,
-            cfg.risk_sigmas,
+            risk=cfg.risk_sigmas,
         )
     if not len(result.X):
         why = f"none of the {result.simulated} trajectories simulated passed the check"

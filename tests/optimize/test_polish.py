@@ -55,7 +55,9 @@ def platform(m3f, start):
 
 @pytest.fixture(scope="module")
 def polished(m3f, start, platform):
-    return polish(m3f.policy, platform, start, SETTINGS, priorities=2, spread=1e-3, first_row=500)
+    return polish(
+        m3f.policy, platform, start, SETTINGS, priorities=2, spread=1e-3, first_row=500, risk=1.0
+    )
 
 
 def _measured(platform, X):
@@ -94,7 +96,9 @@ def test_only_rows_that_keep_every_rule_are_simulated(m3f, platform, polished):
 
 def test_the_polish_is_deterministic(m3f, start, platform, polished):
     fresh = AnalyticPlatform(m3f.policy, platform.target, platform.ceiling)
-    again = polish(m3f.policy, fresh, start, SETTINGS, priorities=2, spread=1e-3, first_row=500)
+    again = polish(
+        m3f.policy, fresh, start, SETTINGS, priorities=2, spread=1e-3, first_row=500, risk=1.0
+    )
     np.testing.assert_array_equal(again.X, polished.X)
 
 
@@ -116,7 +120,7 @@ def test_start_verdicts_are_taken_as_measured_not_simulated_again(m3f, start, pl
     verdicts = earlier(list(range(len(start))), start)
     fresh = AnalyticPlatform(m3f.policy, platform.target, platform.ceiling)
     short = SearchSettings(population=len(start), generations=2, seed=3)
-    polish(m3f.policy, fresh, start, short, 2, 1e-3, 500, verdicts)
+    polish(m3f.policy, fresh, start, short, 2, 1e-3, 500, verdicts, risk=1.0)
     asked = {x.tobytes() for x in np.vstack(fresh.asked)}
     starts = m3f.policy.expand(m3f.policy.contract(start))
     assert not asked & {x.tobytes() for x in starts}
@@ -167,15 +171,18 @@ def test_risk_ranks_a_trajectory_by_its_mean_plus_its_spread(m3f, start):
     steady = Verdict(0, True, "", {}, [6.8, 1.0, 0.0], [0.02, 0.02, 0.0], 3)
     swinging = Verdict(1, True, "", {}, [6.7, 0.9, 0.0], [0.3, 0.4, 0.0], 3)
     once = Verdict(2, True, "", {}, [6.9, 1.1, 0.0], [], 1)
+    refused = Verdict(3, False, "the film bent below fc", {})
+    verdicts = (steady, swinging, once, refused)
 
     def check(rows, X):
-        return [replace(v, row=r) for v, r in zip((steady, swinging, once), rows, strict=True)]
+        return [replace(v, row=r) for v, r in zip(verdicts, rows, strict=True)]
 
-    U = m3f.policy.contract(start[:3])
-    assert m3f.policy.check(start[:3]).feasible.all()
+    U = m3f.policy.contract(start[:4])
+    assert m3f.policy.check(start[:4]).feasible.all()
     plain, cautious = {}, {}
     SimulatedProblem(m3f.policy, check, 2, 0)._evaluate(U, plain)
     SimulatedProblem(m3f.policy, check, 2, 0, risk=1.0)._evaluate(U, cautious)
-    np.testing.assert_allclose(plain["F"], [[6.8, 1.0], [6.7, 0.9], [6.9, 1.1]])
-    np.testing.assert_allclose(cautious["F"], [[6.82, 1.02], [7.0, 1.3], [6.9, 1.1]])
+    np.testing.assert_allclose(plain["F"][:3], [[6.8, 1.0], [6.7, 0.9], [6.9, 1.1]])
+    np.testing.assert_allclose(cautious["F"][:3], [[6.82, 1.02], [7.0, 1.3], [6.9, 1.1]])
     assert (plain["F"][1] < plain["F"][0]).all() and (cautious["F"][0] < cautious["F"][1]).all()
+    np.testing.assert_array_equal(cautious["G"][:, 1], [0.0, 0.0, 0.0, 1.0])  # refused stays so

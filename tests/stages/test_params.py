@@ -132,6 +132,16 @@ def test_polishing_more_objectives_than_the_robot_has_is_named(tmp_path, params_
     assert "polish.priorities: 7 is more than robot 'mst_m3f''s 6 objectives" in msg
 
 
+def test_a_polish_weighing_a_spread_it_has_not_measured_is_named(tmp_path, params_dict):
+    params_dict["optimize"]["verify_copies"] = 0
+    params_dict["polish"]["risk_sigmas"] = 1.0
+    msg = _error(tmp_path, params_dict)
+    assert "polish.risk_sigmas: 1 weighs the spread" in msg and "verify_copies is 0" in msg, msg
+    params_dict["polish"]["risk_sigmas"] = 0.0
+    params = load_params(write_params(tmp_path / "params.yaml", params_dict))
+    assert params.polish.risk_sigmas == 0.0
+
+
 def test_unknown_leg_type_is_named(tmp_path, params_dict):
     params_dict["robots"]["mst_q"]["leg"]["type"] = "hexapod"
     msg = _error(tmp_path, params_dict)

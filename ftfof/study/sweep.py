@@ -119,7 +119,8 @@ def failed(status_text: str, names: Sequence[str]) -> list[str]:
 
 
 # the columns a sweep is read by: what ran, and the optimum's figures against the reference
-KEY_PARAMS = (("robot",), ("surface",), ("base", "seed"))
+# the search seed is what ``seeds=`` varies; null (the base seed's) is shown as "-"
+KEY_PARAMS = (("robot",), ("surface",), ("base", "seed"), ("base", "search_seed"))
 KEY_METRICS = {  # the summary's name -> the column's
     "peak_pull": "pull [N]",
     "jitter": "detachment jitter [m/s²]",
@@ -130,7 +131,7 @@ KEY_METRICS = {  # the summary's name -> the column's
 
 def key_columns(shown: list[dict], names: Sequence[str], summary: str) -> str:
     """A Markdown table of the experiments ``names`` from `dvc exp show --json` output: robot,
-    surface, seed, the reference, and the optimum's pull, detachment jitter, landing press and
+    surface, seed and search seed, the reference, and the optimum's pull, detachment jitter, landing press and
     film radius with their change against the reference, read from evaluate's DVC summary at
     ``summary`` (the full table has hundreds of columns: `dvc exp show`)."""
     found: dict[str, dict] = {}
@@ -146,7 +147,7 @@ def key_columns(shown: list[dict], names: Sequence[str], summary: str) -> str:
                 walk(value)
 
     walk(shown)
-    header = ["experiment", "robot", "surface", "seed", "reference"]
+    header = ["experiment", "robot", "surface", "seed", "search seed", "reference"]
     header += list(KEY_METRICS.values())
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     for name in names:
@@ -159,7 +160,7 @@ def key_columns(shown: list[dict], names: Sequence[str], summary: str) -> str:
             value: object = params
             for key in path:
                 value = value.get(key, "?") if isinstance(value, dict) else "?"
-            cells.append(str(value))
+            cells.append("-" if value is None else str(value))
         cells.append(str(metrics.get("reference", "?")))
         for metric in KEY_METRICS:
             value, change = optimum.get(metric), optimum.get(f"{metric}_change")

@@ -81,13 +81,14 @@ SUMMARY = "reports/summary/evaluate.json"
 
 
 def test_a_finished_sweep_prints_its_key_columns_only():
-    def experiment(name, robot, pull, change):
+    def experiment(name, robot, pull, change, search_seed=None):
         return {
             "name": name,
             "rev": "0" * 40,
             "data": {
                 "params": {"params.yaml": {"data": {
-                    "robot": robot, "surface": "glass", "base": {"seed": 7},
+                    "robot": robot, "surface": "glass",
+                    "base": {"seed": 7, "search_seed": search_seed},
                 }}},
                 "metrics": {"reports/summary/evaluate.json": {"data": {
                     "reference": "polynomial",
@@ -100,16 +101,16 @@ def test_a_finished_sweep_prints_its_key_columns_only():
         {
             "name": "main",
             "data": {},
-            "experiments": [{"revs": [experiment("s-mst_q-glass", "mst_q", 6.5, -4.04)]}],
+            "experiments": [{"revs": [experiment("s-mst_q-glass", "mst_q", 6.5, -4.04, 3)]}],
         },
         experiment("s-mst_m3f-glass", "mst_m3f", 7.1, 1.0),
     ]
     table = key_columns(shown, ["s-mst_m3f-glass", "s-mst_q-glass"], SUMMARY).splitlines()[2:]
-    assert table[0].startswith("| experiment | robot | surface | seed | reference |")
+    assert table[0].startswith("| experiment | robot | surface | seed | search seed | reference |")
     assert table[2] == (
-        "| s-mst_m3f-glass | mst_m3f | glass | 7 | polynomial | 7.1 (+1.0 %) | ? | ? | ? |"
+        "| s-mst_m3f-glass | mst_m3f | glass | 7 | - | polynomial | 7.1 (+1.0 %) | ? | ? | ? |"
     )
-    assert table[3].startswith("| s-mst_q-glass | mst_q | glass | 7 | polynomial | 6.5 (-4.0 %)")
+    assert table[3].startswith("| s-mst_q-glass | mst_q | glass | 7 | 3 | polynomial | 6.5 (-4.0 %)")
     assert len(table) == 4 and all(len(line) < 200 for line in table)
 
 

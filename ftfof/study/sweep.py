@@ -131,9 +131,9 @@ KEY_METRICS = {  # the summary's name -> the column's
 
 def key_columns(shown: list[dict], names: Sequence[str], summary: str) -> str:
     """A Markdown table of the experiments ``names`` from `dvc exp show --json` output: robot,
-    surface, seed and search seed, the reference, and the optimum's pull, detachment jitter, landing press and
-    film radius with their change against the reference, read from evaluate's DVC summary at
-    ``summary`` (the full table has hundreds of columns: `dvc exp show`)."""
+    surface, seed and search seed, the reference, and the optimum's pull, detachment jitter,
+    landing press and film radius with their change against the reference, read from evaluate's
+    DVC summary at ``summary`` (the full table has hundreds of columns: `dvc exp show`)."""
     found: dict[str, dict] = {}
 
     def walk(node: object) -> None:

@@ -110,7 +110,9 @@ def test_a_finished_sweep_prints_its_key_columns_only():
     assert table[2] == (
         "| s-mst_m3f-glass | mst_m3f | glass | 7 | - | polynomial | 7.1 (+1.0 %) | ? | ? | ? |"
     )
-    assert table[3].startswith("| s-mst_q-glass | mst_q | glass | 7 | 3 | polynomial | 6.5 (-4.0 %)")
+    assert table[3].startswith(
+        "| s-mst_q-glass | mst_q | glass | 7 | 3 | polynomial | 6.5 (-4.0 %)"
+    )
     assert len(table) == 4 and all(len(line) < 200 for line in table)
 
 

@@ -64,8 +64,11 @@ def run(
     say(f"sweep: queued {', '.join(names)}; {jobs} worker(s) started")
     if not wait:
         return ""
+    told: list[str] = []  # a line when what it waits for changes, not one every poll
     while pending := unfinished(dvc("queue", "status"), names):
-        say(f"sweep: waiting for {', '.join(pending)}")
+        if pending != told:
+            say(f"sweep: waiting for {', '.join(pending)}")
+            told = pending
         time.sleep(poll)
     if bad := failed(dvc("queue", "status"), names):
         raise FtfofError("sweep", f"failed: {', '.join(bad)} (see `dvc queue logs NAME`)")

@@ -119,8 +119,13 @@ def failed(status_text: str, names: Sequence[str]) -> list[str]:
 
 
 # the columns a sweep is read by: what ran, and the optimum's figures against the reference
-# the search seed is what ``seeds=`` varies; null (the base seed's) is shown as "-"
-KEY_PARAMS = (("robot",), ("surface",), ("base", "seed"), ("base", "search_seed"))
+KEY_PARAMS = {  # the column -> its params key path; a null value (a search seed that follows the
+    # seed) is shown as "-". The search seed is what ``seeds=`` varies
+    "robot": ("robot",),
+    "surface": ("surface",),
+    "seed": ("base", "seed"),
+    "search seed": ("base", "search_seed"),
+}
 KEY_METRICS = {  # the summary's name -> the column's
     "peak_pull": "pull [N]",
     "jitter": "detachment jitter [m/s²]",
@@ -147,8 +152,7 @@ def key_columns(shown: list[dict], names: Sequence[str], summary: str) -> str:
                 walk(value)
 
     walk(shown)
-    header = ["experiment", "robot", "surface", "seed", "search seed", "reference"]
-    header += list(KEY_METRICS.values())
+    header = ["experiment", *KEY_PARAMS, "reference", *KEY_METRICS.values()]
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     for name in names:
         data = found.get(name, {})
@@ -156,7 +160,7 @@ def key_columns(shown: list[dict], names: Sequence[str], summary: str) -> str:
         metrics = data.get("metrics", {}).get(summary, {}).get("data", {})
         optimum = metrics.get("optimum", {})
         cells = [name]
-        for path in KEY_PARAMS:
+        for path in KEY_PARAMS.values():
             value: object = params
             for key in path:
                 value = value.get(key, "?") if isinstance(value, dict) else "?"

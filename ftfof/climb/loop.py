@@ -27,6 +27,7 @@ from ftfof.climb.gait import LEGS, min_jerk
 from ftfof.climb.model import BASE, JOINTS, Climber
 from ftfof.config import LEG_NAMES
 from ftfof.sim import film
+from ftfof.sim.foot import backing_stiffness, pressed_area
 from ftfof.sim.padstate import PadTracker
 from ftfof.sim.prestep import PRESS_TIME_CONSTANT
 
@@ -402,11 +403,12 @@ def _series_stiffness(robot: Climber) -> float:
     spec = robot.spec
     mech = spec.robot.platform
     l1, l2 = robot.chain.links
-    grip = mech.foot.grip_length * mech.film.width
+    pad = spec.robot.foot.pad_length
     parts = [
         mech.joint_gains[0] / max(l1, l2) ** 2,
         spec.platform.sensor.stiffness,
-        robot.law.contact_stiffness * grip,
+        robot.law.contact_stiffness * pressed_area(mech.foot, mech.film, pad),
+        backing_stiffness(mech.foot, pad * mech.film.width),
     ]
     mount = spec.robot.climber.foot_mount_stiffness if spec.robot.climber else None
     if mount is not None:

@@ -48,6 +48,7 @@ from ftfof.climb.gait import LEGS, Gait
 from ftfof.climb.legs import SagittalChain
 from ftfof.climb.surface import PadSwitch, SurfaceSwitch
 from ftfof.sim.bonds import BondLaw
+from ftfof.sim.foot import ankle_joint_law, free_span_start, grip_of
 from ftfof.sim.joint_leg import ATTACH_DAMPING, ATTACH_STIFFNESS, SERVO_LINK_MASS, tree_node
 from ftfof.sim.pad import add_bonds, add_film, add_sole, film_grid
 from ftfof.sim.padstate import PadParts
@@ -115,8 +116,6 @@ def robot_mass(robot: config.Robot) -> float:
 
 def build(spec: ClimbSpec, chain: SagittalChain, gait: Gait, law: BondLaw) -> Climber:
     """Assemble the robot standing on the wall with every pad bonded (not yet solved)."""
-    from ftfof.sim.film import clamp_edge
-
     robot = spec.robot
     climber = robot.climber
     assert climber is not None
@@ -124,7 +123,7 @@ def build(spec: ClimbSpec, chain: SagittalChain, gait: Gait, law: BondLaw) -> Cl
     film, foot = mech.film, mech.foot
     sensor = spec.platform.sensor
     pad = robot.foot.pad_length
-    grip = min(foot.grip_length, pad)
+    grip = grip_of(foot, pad)
     grid = film_grid(pad, spec.solver.nodes, film.width, grip, spec.solver.edge_element)
     x_ref, area = grid.x_ref, grid.area
     sc = exu.SystemContainer()
@@ -174,11 +173,11 @@ def build(spec: ClimbSpec, chain: SagittalChain, gait: Gait, law: BondLaw) -> Cl
             )
         )
         nodes, elements, stop = add_film(
-            mbs, film, grid, foot_body, foot.ankle_height, grip, origin=xf, gravity=gravity
+            mbs, film, grid, foot_body, foot, origin=xf, gravity=gravity
         )
         kx = mount.x if mount else ATTACH_STIFFNESS
         kz = mount.z if mount else ATTACH_STIFFNESS
-        mbs.AddObject(
+        ankle = mbs.AddObject(
             ObjectConnectorRigidBodySpringDamper(
                 markerNumbers=[
                     mbs.AddMarker(
@@ -194,6 +193,8 @@ def build(spec: ClimbSpec, chain: SagittalChain, gait: Gait, law: BondLaw) -> Cl
                 damping=np.diag([ATTACH_DAMPING] * 3 + [0.0, 0.0, foot.ankle_damping]).tolist(),
             )
         )
+        if foot.model == "plate":
+            keep.append(ankle_joint_law(mbs, ankle, foot, robot.ankle_rest_angle))
         connectors, law_fn = add_bonds(
             mbs,
             law,
@@ -242,7 +243,7 @@ def build(spec: ClimbSpec, chain: SagittalChain, gait: Gait, law: BondLaw) -> Cl
         feet=feet,
         patch_springs=springs,
         soles=soles,
-        clamp_edge=clamp_edge(x_ref, grip),
+        clamp_edge=free_span_start(foot, x_ref),
         imu_sensor=imu,
         initial_pressure=initial_pressure,
         q0=q0,

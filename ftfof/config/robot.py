@@ -175,19 +175,59 @@ class FilmMechanics(Strict):
         return self.thickness / (2.0 * self.yield_strain)
 
 
-class FootMechanics(Strict):
-    """Rigid foot on a passive, spring-loaded ankle holding the film's near end."""
+class Backing(Strict):
+    """The compliant layer between the plate foot's rigid plate and the film (foam or
+    elastomer): per film node a normal spring E A / t and a shear spring G A / t, G = E / 2(1 + nu),
+    damped at ``damping_ratio`` of each node's critical damping."""
 
+    modulus: PositiveFloat  # E, Pa
+    thickness: PositiveFloat  # t, m
+    poisson: Annotated[float, Field(ge=0.0, lt=0.5)]  # nu
+    damping_ratio: NonNegativeFloat
+    source: Annotated[str, Field(min_length=10)]  # where E and t come from
+
+    @property
+    def shear_modulus(self) -> float:
+        return self.modulus / (2.0 * (1.0 + self.poisson))
+
+
+class FootMechanics(Strict):
+    """The foot on its passive, spring-loaded ankle (docs/simulator.md, "The foot").
+
+    ``grip``: a rigid foot clamping the film's first ``grip_length``, the rest of the pad free
+    ahead of it. ``plate``: a rigid plate the pad's length backs the whole film through a
+    compliant ``backing``, hung from the leg on a passive ankle at the heel that rests toe-down
+    in the air (the robot's droop hs over lf) and stops at ``ankle_range``.
+    """
+
+    model: Literal["grip", "plate"] = "grip"
     mass: PositiveFloat  # kg
     inertia: PositiveFloat  # kg m^2 about the ankle
     ankle_height: PositiveFloat  # ankle above the film, m
-    grip_length: PositiveFloat  # film length clamped under the foot, m
+    grip_length: PositiveFloat  # film length clamped under the foot (grip), m
     ankle_stiffness: PositiveFloat  # N m/rad
     ankle_damping: NonNegativeFloat  # N m s/rad
     # m: the rigid sole over the pad, from the grip on, that presses the film onto the wall in
     # the climbing robot's landing hold, so the whole pad bonds again (the next stance holds by
-    # it); None: only what the heel pressed bonds. The platform does not model it (decision 0019)
+    # it); None: only what the heel pressed bonds. The grip foot's only (decision 0019)
     sole_length: PositiveFloat | None = None
+    backing: Backing | None = None  # the plate foot's
+    # the plate's rotation limits from flat, rad: toe down (negative), toe up; past them the
+    # ankle's moment rises ``ankle_stop_stiffness`` times faster
+    ankle_range: tuple[float, float] | None = None
+    ankle_stop_stiffness: PositiveFloat = 100.0
+
+    @model_validator(mode="after")
+    def _plate_parts(self) -> FootMechanics:
+        if self.model == "plate":
+            if self.backing is None or self.ankle_range is None:
+                raise ValueError("a plate foot needs foot.backing and foot.ankle_range")
+            low, high = self.ankle_range
+            if not low < 0.0 < high:
+                raise ValueError(f"foot.ankle_range must hold 0 (flat): got [{low}, {high}]")
+            if self.sole_length is not None:
+                raise ValueError("foot.sole_length is the grip foot's: the plate backs the pad")
+        return self
 
 
 class BodyMechanics(Strict):
@@ -272,6 +312,14 @@ class Robot(Strict):
     reference: Baseline | None = None
     # the whole robot on the wall, for `ftfof climb` and evaluate's climbs; None: it cannot climb
     climber: Climber | None = None
+
+    @property
+    def ankle_rest_angle(self) -> float:
+        """The plate foot's rest angle in the air, rad (negative: toe down): the droop hs over
+        the pad's length, asin(hs / lf); 0 for the grip foot, whose film droops instead."""
+        if self.platform.foot.model != "plate":
+            return 0.0
+        return -float(np.arcsin(min(self.foot.droop_height / self.foot.pad_length, 1.0)))
 
     @property
     def pad_area(self) -> float:

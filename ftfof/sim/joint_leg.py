@@ -27,6 +27,7 @@ from exudyn.itemInterface import (
 import ftfof.config as config
 from ftfof.errors import SimulationError
 from ftfof.kinematics.legs import build_leg
+from ftfof.sim.foot import ankle_joint_law
 
 ATTACH_STIFFNESS = 2e5  # N/m, foot-to-ankle-link attachment (stiff against the leg's compliance)
 ATTACH_DAMPING = 20.0
@@ -100,7 +101,7 @@ def attach_joint_leg(p: Any, foot_node: Any, g0: Any) -> Any:
     foot = mech.foot
     k_attach = [ATTACH_STIFFNESS] * 3 + [0.0, 0.0, foot.ankle_stiffness]
     d_attach = [ATTACH_DAMPING] * 3 + [0.0, 0.0, foot.ankle_damping]
-    mbs.AddObject(
+    ankle = mbs.AddObject(
         ObjectConnectorRigidBodySpringDamper(
             markerNumbers=[
                 mbs.AddMarker(
@@ -112,6 +113,8 @@ def attach_joint_leg(p: Any, foot_node: Any, g0: Any) -> Any:
             damping=np.diag(d_attach).tolist(),
         )
     )
+    if foot.model == "plate":
+        p.keep.append(ankle_joint_law(mbs, ankle, foot, spec.ankle_rest))
     offsets = np.zeros(n)
     rates = np.zeros(n)
 

@@ -8,7 +8,8 @@ Planar: Exudyn x is along the wall, Exudyn y is our z (normal to the plate). Ite
 - robot body: a point mass on compliant mounts (the other feet on the wall) carrying the IMU;
 - lumped leg: x/z spring-dampers from the body to the ankle whose rest offset *is* the commanded
   trajectory (a symbolic piecewise quintic, exact velocity for the damper) minus the press depth;
-- foot: a rigid body on a passive ankle spring, clamping the film's first ``grip_length``;
+- foot: a rigid body on a passive ankle spring holding the film (:mod:`ftfof.sim.foot`: a grip
+  clamping its first ``grip_length``, or a plate backing all of it);
 - the pad (:mod:`ftfof.sim.pad`): the ANCF film on the plate ahead of the foot and one cohesive
   bond connector per film node; a sensor per film node records its coordinates for
   :mod:`ftfof.sim.film`.
@@ -39,8 +40,8 @@ from exudyn.itemInterface import (
 )
 
 from ftfof.config import GRAVITY
-from ftfof.sim import film as film_shape
 from ftfof.sim.bonds import BondLaw
+from ftfof.sim.foot import ankle_law, backing_stiffness, free_span_start, grip_of, pressed_area
 from ftfof.sim.pad import add_bonds, add_film, film_grid
 from ftfof.sim.padstate import PadParts
 from ftfof.sim.spec import SampleSpec
@@ -115,7 +116,7 @@ def build(spec: SampleSpec, law: BondLaw) -> Platform:
     film, foot = m.film, m.foot
     sensor = spec.platform.sensor
     pad = spec.pad_length
-    grip = min(foot.grip_length, pad)
+    grip = grip_of(foot, pad)
     grid = film_grid(pad, spec.solver.nodes, film.width, grip, spec.solver.edge_element)
     x_ref, area = grid.x_ref, grid.area
     sc = exu.SystemContainer()
@@ -155,8 +156,8 @@ def build(spec: SampleSpec, law: BondLaw) -> Platform:
         )
     )
 
-    # the film lying on the plate ahead of the foot, its first ``grip`` clamped to the sole
-    film_nodes, elements, stop = add_film(mbs, film, grid, foot_body, ha, grip)
+    # the film lying on the plate, held by the foot (the grip's clamp or the plate's backing)
+    film_nodes, elements, stop = add_film(mbs, film, grid, foot_body, foot)
 
     p = Platform(
         sc=sc,
@@ -166,7 +167,7 @@ def build(spec: SampleSpec, law: BondLaw) -> Platform:
         x_ref=x_ref,
         area=area,
         film_nodes=film_nodes,
-        clamp_edge=film_shape.clamp_edge(x_ref, grip),
+        clamp_edge=free_span_start(foot, x_ref),
         film_sensors=[],
         film_elements=elements,
         bend_stop=stop,
@@ -224,14 +225,15 @@ def build(spec: SampleSpec, law: BondLaw) -> Platform:
 
 
 def _series_stiffness(spec: SampleSpec, law: BondLaw, area: np.ndarray) -> float:
-    """Stiffness of the press path leg -> foot -> grip contact -> sensor -> body mounts."""
+    """Stiffness of the press path leg -> foot (its backing) -> the contact it presses ->
+    sensor -> body mounts."""
     m = spec.mechanics
-    grip = m.foot.grip_length * m.film.width
     parts = (
         m.leg_stiffness.z,
         m.body.mount_stiffness.z,
         spec.platform.sensor.stiffness,
-        law.contact_stiffness * grip,
+        law.contact_stiffness * pressed_area(m.foot, m.film, spec.pad_length),
+        backing_stiffness(m.foot, spec.pad_length * m.film.width),
     )
     return 1.0 / sum(1.0 / k for k in parts)
 
@@ -289,13 +291,15 @@ def _lumped_leg(p: Platform, g0: Any, foot_node: Any) -> Any:
         )
         _uf(p, obj, _leg_force(traj, dim, p.press_depth if dim == 1 else Real(0.0)))
     foot = spec.mechanics.foot
-    mbs.AddObject(  # passive ankle: the leg keeps its orientation, the foot rotates on a spring
+    ankle = mbs.AddObject(  # passive ankle: the leg keeps its orientation, the foot turns on it
         CoordinateSpringDamper(
             markerNumbers=[g0, _coord(mbs, foot_node, 2)],
             stiffness=foot.ankle_stiffness,
             damping=foot.ankle_damping,
         )
     )
+    if foot.model == "plate":
+        p.keep.append(ankle_law(mbs, ankle, foot, spec.ankle_rest))
     return sensor
 
 

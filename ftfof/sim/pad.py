@@ -1,10 +1,9 @@
 """The adhesive pad in the Exudyn system: the film and its bond connectors (docs/simulator.md).
 
-- film: ANCF cable elements (exact EI, EA) lying on the plate ahead of the foot, x in [0, lf],
-  each with a curvature stop (:func:`_bending_moment`) that the solver loop arms only while the
-  element is bent near it (the symbolic moment law costs +70 % run time when always on), and
-  its first ``grip_length`` clamped to the foot (pinned at every film node inside the grip, and
-  the last clamped element held straight with the sole: :func:`ftfof.sim.film.clamp_pins`);
+- film: ANCF cable elements (exact EI, EA) lying on the plate, x in [0, lf], each with a
+  curvature stop (:func:`_bending_moment`) that the solver loop arms only while the element is
+  bent near it (the symbolic moment law costs +70 % run time when always on), held by the foot
+  (:mod:`ftfof.sim.foot`: the grip's clamp or the plate's backing);
 - one cohesive bond connector per film node (law in :mod:`ftfof.sim.bonds`), all sharing one
   symbolic user function; their state lives in the connector parameters (stiffness =
   [K_t A, K A, Kc A], damping = [broken, phi * R, 0], offset = [anchor, 0, 0]).
@@ -27,13 +26,12 @@ from exudyn.itemInterface import (
     MarkerNodePosition,
     NodePoint2DSlope1,
     ObjectANCFCable2D,
-    ObjectJointRevolute2D,
 )
 from scipy.optimize import brentq
 
-from ftfof.config import GRAVITY, FilmMechanics
-from ftfof.sim import film as film_shape
+from ftfof.config import GRAVITY, FilmMechanics, FootMechanics
 from ftfof.sim.bonds import BondLaw, contact_pressure
+from ftfof.sim.foot import hold_film
 
 esym = exu.symbolic
 Real = esym.Real
@@ -89,7 +87,7 @@ def _graded_grid(
     """The grip in equal elements no longer than ``edge_element`` (so it ends on a node), then
     the bonded pad from ``edge_element`` at either end, growing by one ratio per element toward
     its middle."""
-    in_grip = max(math.ceil(grip / edge_element - 1e-9), 1)
+    in_grip = max(math.ceil(grip / edge_element - 1e-9), 1) if grip > 0 else 0  # plate: none
     on_pad = elements - in_grip
     rest = pad_length - grip
     if on_pad < 1 or on_pad * edge_element >= rest * (1 - 1e-9):
@@ -134,15 +132,14 @@ def add_film(
     film: FilmMechanics,
     grid: FilmGrid,
     foot_body: Any,
-    ankle_height: float,
-    grip: float,
+    foot: FootMechanics,
     origin: float = 0.0,
     gravity: tuple[float, float] = (0.0, -GRAVITY),
 ) -> tuple[list[Any], list[Any], Any]:
     """The film's nodes at ``origin + grid.x_ref`` on the wall (the foot's reference x is
-    ``origin``), its elements under ``gravity``, clamped over ``grip`` to the foot's sole; returns
-    (nodes, elements, curvature-stop law). The platform's plate lies under gravity (-z); a wall
-    has it along the film (-x)."""
+    ``origin``), its elements under ``gravity``, held by the foot (:func:`ftfof.sim.foot.
+    hold_film`); returns (nodes, elements, curvature-stop law). The platform's plate lies under
+    gravity (-z); a wall has it along the film (-x)."""
     nodes = [
         mbs.AddNode(NodePoint2DSlope1(referenceCoordinates=[origin + x, 0.0, 1.0, 0.0]))
         for x in grid.x_ref
@@ -172,15 +169,7 @@ def add_film(
                 loadVector=[*gravity, 0.0],
             )
         )
-    for x in film_shape.clamp_pins(grid.x_ref, grip):
-        e = grid.element_at(x)
-        on_film = mbs.AddMarker(
-            MarkerBodyPosition(bodyNumber=elements[e], localPosition=[x - grid.start[e], 0.0, 0.0])
-        )
-        on_foot = mbs.AddMarker(
-            MarkerBodyPosition(bodyNumber=foot_body, localPosition=[x, -ankle_height, 0.0])
-        )
-        mbs.AddObject(ObjectJointRevolute2D(markerNumbers=[on_foot, on_film]))
+    hold_film(mbs, foot, film, grid, nodes, elements, foot_body)
     return nodes, elements, stop
 
 

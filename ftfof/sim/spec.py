@@ -35,6 +35,7 @@ class SampleSpec:
     leg_model: str
     leg: config.PlanarLeg | config.SpatialLeg
     seed: int
+    ankle_rest: float = 0.0  # the foot's rest angle in the air, rad (Robot.ankle_rest_angle)
 
     @property
     def trajectory_start(self) -> float:
@@ -75,6 +76,7 @@ class Bench:
             leg_model=self.acquire.leg_model,
             leg=r.leg,
             seed=seed_for(self.seed, "acquisition", sample_id),
+            ankle_rest=r.ankle_rest_angle,
         )
 
     def bezier(self, source: str, sample_id: int, X: np.ndarray) -> SampleSpec:

@@ -2,7 +2,7 @@
 
 Before each step it updates the four pads (:class:`ftfof.sim.padstate.PadTracker`); presses the
 landed foot to the pre-pressure a through its landing hold (the platform's integral loop on the
-wall patch's normal force; the foot's sole spreads it over the pad) and releases that press
+wall patch's normal force) and releases that press
 over the body's advance that follows; sets
 the joint targets from the gait through each leg's inverse kinematics against the body's plan;
 records the channels at the record rate; and stops the run cleanly when the robot falls: a
@@ -102,7 +102,6 @@ class ClimbLoop:
         self.stopped = ""
         self.steps = 0
         self.held = np.ones(LEGS, dtype=bool)
-        self.sole_on = -1  # the leg whose sole presses now
         self.control = control
         self.plan: BodyPlan = robot.gait.body  # the control's re-planner may replace it
         self.feedforward = np.zeros_like(self.offsets)
@@ -126,7 +125,6 @@ class ClimbLoop:
         self.held = held
         if swing >= 0:
             self._press(swing, tau, q, qd)
-        self._sole(tau, swing)
         self._targets(t, tau, swing, q, qd)
         if self.control is not None and t >= self.next_control - 1e-12:
             self._control(t, q, qd, tau, swing)
@@ -220,21 +218,6 @@ class ClimbLoop:
         error = self.r.spec.robot.pre_pressure - compression
         h = self.solver.it.currentStepSize
         self.press_depth[leg] += error / self.series_stiffness * min(h / PRESS_TIME_CONSTANT, 1.0)
-
-    def _sole(self, tau: float, swing: int) -> None:
-        """The landing leg's sole presses its film through the landing hold, and only then: it
-        spreads the landing press over the pad, so the whole pad bonds again."""
-        on = -1
-        if swing >= 0:
-            gait = self.r.gait
-            on = swing if gait.swing <= tau < gait.swing + gait.hold else -1
-        if on == self.sole_on:
-            return
-        for leg, active in ((self.sole_on, False), (on, True)):
-            if leg >= 0:
-                for obj in self.r.soles[leg]:
-                    self.mbs.SetObjectParameter(obj, "activeConnector", active)
-        self.sole_on = on
 
     def _applied_press(self, tau: float, leg: int) -> Array:
         """Each leg's press into the wall now: the landing leg's loop depth through its swing

@@ -8,8 +8,8 @@ Items:
   platform's joint gains) toward targets the solver loop sets every step;
 - per leg: the foot, a rigid body on the ankle link through a spring-damper whose rotation is
   the passive ankle (and whose x, z are the optional foot mount, MST-Q's support rack), and
-  :mod:`ftfof.sim.pad`'s film and bonds on a wall patch, with the foot's sole over the film
-  (``foot.sole_length``), pressing it only through the landing hold;
+  :mod:`ftfof.sim.pad`'s film and bonds on a wall patch, the film held by the foot as on the
+  platform (:mod:`ftfof.sim.foot`);
 - per wall patch: a point mass on two stiff springs, the platform's force sensor, so the pad's
   force on the wall is read as on the platform (the wall itself is rigid behind it).
 
@@ -50,7 +50,7 @@ from ftfof.climb.surface import PadSwitch, SurfaceSwitch
 from ftfof.sim.bonds import BondLaw
 from ftfof.sim.foot import ankle_joint_law, free_span_start, grip_of
 from ftfof.sim.joint_leg import ATTACH_DAMPING, ATTACH_STIFFNESS, SERVO_LINK_MASS, tree_node
-from ftfof.sim.pad import add_bonds, add_film, add_sole, film_grid
+from ftfof.sim.pad import add_bonds, add_film, film_grid
 from ftfof.sim.padstate import PadParts
 from ftfof.trajectory.piecewise import PiecewiseQuintic
 
@@ -89,7 +89,6 @@ class Climber:
     pads: list[PadParts]
     feet: list[Any]  # foot nodes
     patch_springs: list[tuple[Any, Any]]  # (x, z) force-sensor springs of each wall patch
-    soles: list[list[Any]]  # each foot's sole contacts (off unless its landing press holds)
     clamp_edge: int
     imu_sensor: Any  # the trunk's acceleration from the solver (the IMU test's reference)
     initial_pressure: float  # Pa over each pad
@@ -141,7 +140,7 @@ def build(spec: ClimbSpec, chain: SagittalChain, gait: Gait, law: BondLaw) -> Cl
     q0[BASE:] = theta0.ravel()
     tree, tree_node = _tree(mbs, spec, chain, gait, q0, hip_z)
 
-    pads, feet, springs, soles = [], [], [], []
+    pads, feet, springs = [], [], []
     initial_pressure = robot.pre_pressure / float(area.sum())
     mount = climber.foot_mount_stiffness
     keep = []
@@ -205,14 +204,6 @@ def build(spec: ClimbSpec, chain: SagittalChain, gait: Gait, law: BondLaw) -> Cl
             mbs.AddMarker(MarkerNodePosition(nodeNumber=patch)),
         )
         keep += [stop, law_fn]
-        if foot.sole_length is not None:
-            sole, sole_fn = add_sole(
-                mbs, law, nodes, x_ref, area, foot_body, foot.ankle_height, grip, foot.sole_length
-            )
-            soles.append(sole)
-            keep.append(sole_fn)
-        else:
-            soles.append([])
         pads.append(PadParts(nodes, elements, stop, connectors, patch, x_ref, area))
         feet.append(foot_node)
         springs.append(spring)
@@ -242,7 +233,6 @@ def build(spec: ClimbSpec, chain: SagittalChain, gait: Gait, law: BondLaw) -> Cl
         pads=pads,
         feet=feet,
         patch_springs=springs,
-        soles=soles,
         clamp_edge=free_span_start(foot, x_ref),
         imu_sensor=imu,
         initial_pressure=initial_pressure,

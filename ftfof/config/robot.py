@@ -207,10 +207,6 @@ class FootMechanics(Strict):
     grip_length: PositiveFloat  # film length clamped under the foot (grip), m
     ankle_stiffness: PositiveFloat  # N m/rad
     ankle_damping: NonNegativeFloat  # N m s/rad
-    # m: the rigid sole over the pad, from the grip on, that presses the film onto the wall in
-    # the climbing robot's landing hold, so the whole pad bonds again (the next stance holds by
-    # it); None: only what the heel pressed bonds. The grip foot's only (decision 0019)
-    sole_length: PositiveFloat | None = None
     backing: Backing | None = None  # the plate foot's
     # the plate's rotation limits from flat, rad: toe down (negative), toe up; past them the
     # ankle's moment rises ``ankle_stop_stiffness`` times faster
@@ -225,8 +221,6 @@ class FootMechanics(Strict):
             low, high = self.ankle_range
             if not low < 0.0 < high:
                 raise ValueError(f"foot.ankle_range must hold 0 (flat): got [{low}, {high}]")
-            if self.sole_length is not None:
-                raise ValueError("foot.sole_length is the grip foot's: the plate backs the pad")
         return self
 
 

@@ -22,7 +22,6 @@ from exudyn.itemInterface import (
     CartesianSpringDamper,
     LoadMassProportional,
     MarkerBodyMass,
-    MarkerBodyPosition,
     MarkerNodePosition,
     NodePoint2DSlope1,
     ObjectANCFCable2D,
@@ -197,47 +196,6 @@ def _bending_moment(film: FilmMechanics) -> Any:
         return bendingStiffness * (k + Real(gain) * over) + bendingDamping * curvature_t
 
     return bending_moment
-
-
-def add_sole(
-    mbs: Any,
-    law: BondLaw,
-    film_nodes: list[Any],
-    x_ref: np.ndarray,
-    area: np.ndarray,
-    foot_body: Any,
-    ankle_height: float,
-    grip: float,
-    sole_length: float,
-) -> tuple[list[Any], Any]:
-    """The foot's rigid sole over the film from the grip to ``sole_length``: one unilateral
-    contact per film node there, pushing the film toward the wall where it would rise above the
-    sole's plane (the contact law of the bonds, with the node's pad area). Built switched off:
-    the caller switches it on while the foot presses (the climbing robot's landing hold).
-    Returns (connectors, their shared symbolic law, which must outlive the solve)."""
-    w, hc = law.contact_smoothing, law.hunt_crossley
-
-    def sole_force(mbs, t, itemNumber, u, v, k, d, offset):
-        return [0, contact_pressure(-u[1], -v[1], k[1], w, hc, esym.max, esym.min), 0]
-
-    connectors: list[Any] = []
-    for i in np.flatnonzero((x_ref > grip + 1e-9) & (x_ref <= sole_length + 1e-9)):
-        on_foot = mbs.AddMarker(
-            MarkerBodyPosition(bodyNumber=foot_body, localPosition=[x_ref[i], -ankle_height, 0.0])
-        )
-        obj = mbs.AddObject(
-            CartesianSpringDamper(
-                markerNumbers=[
-                    on_foot,
-                    mbs.AddMarker(MarkerNodePosition(nodeNumber=film_nodes[i])),
-                ],
-                stiffness=[0.0, law.contact_stiffness * area[i], 0.0],
-                damping=[0.0, 0.0, 0.0],
-                activeConnector=False,
-            )
-        )
-        connectors.append(obj)
-    return connectors, _shared_law(mbs, connectors, sole_force)
 
 
 def add_bonds(

@@ -39,13 +39,12 @@ PLATE = {
 }
 
 
-def test_a_plate_needs_its_backing_and_range_and_no_sole():
+def test_a_plate_needs_its_backing_and_its_range():
     FootMechanics.model_validate(PLATE)
     for change, words in (
         ({"backing": None}, "needs foot.backing"),
         ({"ankle_range": None}, "needs foot.backing and foot.ankle_range"),
         ({"ankle_range": (0.1, 0.3)}, "must hold 0"),
-        ({"sole_length": 0.05}, "sole_length is the grip foot's"),
     ):
         with pytest.raises(ValidationError, match=words):
             FootMechanics.model_validate({**PLATE, **change})

@@ -44,7 +44,8 @@ def command(
     report: Annotated[Path, typer.Option(help="Calibration report JSON.")] = REPORT,
     write_params: Annotated[bool, typer.Option(help="Write the fit into params.yaml.")] = False,
 ) -> None:
-    """Fit the surface's strength and fracture energy (and one more) to FTFOF Table I."""
+    """Fit the surface's strength and fracture energy (one more of its values, and a plate
+    foot's backing modulus) to FTFOF Table I."""
     from ftfof.identify.calibration import parse_bounds, parse_fixes
     from ftfof.pipeline.calibration import fit_surface
     from ftfof.pipeline.params_file import edit_params, load_params
@@ -55,11 +56,14 @@ def command(
     write_json(report, fit)
     show(fit)
     if write_params:
+        fixed, values = _split(fit["fixed"]), _split(fit["values"])
         edit_params(
             params_path,
             lambda document: (
-                update_surface(document, params.surface, fit["fixed"], HELD),
-                update_surface(document, params.surface, fit["values"]),
+                update_surface(document, params.surface, fixed[0], HELD),
+                update_surface(document, params.surface, values[0]),
+                update_backing(document, params.robot, fixed[1], HELD),
+                update_backing(document, params.robot, values[1]),
             ),
         )
         console.print(f"wrote the fit into {params_path}")
@@ -78,11 +82,15 @@ def show(fit: dict[str, Any]) -> None:
     for name, err in fit["residuals"].items():
         console.print(f"  {name:34s} {err:+.1%}")
     film = fit["film"]
+    cap = fit["fracture_energy_cap"]
     console.print(
         f"  critical opening 2G/sigma {1e3 * film['critical_opening']:.2f} mm; peel-root radius "
         f"{1e3 * film['peel_root_radius']:.2f} mm against fc {1e3 * film['fc']:.1f} mm "
-        f"(G cap {fit['fracture_energy_cap']:.1f} J/m^2: a quasi-static sharp-crack peel's "
-        "root at fc)"
+        + (
+            f"(G cap {cap:.1f} J/m^2: a quasi-static sharp-crack peel's root at fc)"
+            if cap is not None
+            else "(no cap on G: the plate backs the film)"
+        )
     )
     for name, b in film["baselines"].items():
         if b["clamp_edge_radius_if_pulled_at_90deg"] is None:
@@ -96,18 +104,39 @@ def show(fit: dict[str, Any]) -> None:
         )
 
 
+def _split(values: dict[str, float]) -> tuple[dict[str, float], dict[str, float]]:
+    """(the surface's values, the foot backing's values by their key in the backing)."""
+    from ftfof.sim.calibrate import FOOT
+
+    return (
+        {k: v for k, v in values.items() if k not in FOOT},
+        {FOOT[k]: v for k, v in values.items() if k in FOOT},
+    )
+
+
 def update_surface(
     document: Any, surface: str, values: dict[str, float], comment: str = COMMENT
 ) -> None:
     """Set ``surfaces.<surface>.<name>`` in a round-trip document, each with ``comment``."""
+    block = document.get("surfaces", {}).get(surface)
+    _set_keys(block, f"surfaces.{surface}", values, comment)
+
+
+def update_backing(
+    document: Any, robot: str, values: dict[str, float], comment: str = COMMENT
+) -> None:
+    """Set ``robots.<robot>.platform.foot.backing.<name>``, each with ``comment``."""
+    if values:
+        foot = document["robots"][robot]["platform"]["foot"]
+        _set_keys(foot.get("backing"), f"robots.{robot}.platform.foot.backing", values, comment)
+
+
+def _set_keys(block: Any, where: str, values: dict[str, float], comment: str) -> None:
     from ftfof.pipeline.params_file import yaml_float
 
-    block = document.get("surfaces", {}).get(surface)
     missing = sorted(set(values) - set(block or ()))
     if block is None or missing:
-        raise ParamsError(
-            f"surfaces.{surface}", f"has no key for {missing} (add them to params.yaml first)"
-        )
+        raise ParamsError(where, f"has no key for {missing} (add them to params.yaml first)")
     for name, value in values.items():
         block[name] = float(f"{value:.6g}")
         # two spaces before the comment, wherever an earlier comment of the key stood

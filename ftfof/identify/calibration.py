@@ -1,6 +1,10 @@
 """What a fit of a surface to FTFOF Table I (``ftfof calibrate``; the fit is
 :mod:`ftfof.sim.calibrate`) may fit or hold: the parameters it knows, their default ranges, and
-the ``--fix key=value`` and ``--bound key=lo:hi`` that change them, each refused by name."""
+the ``--fix key=value`` and ``--bound key=lo:hi`` that change them, each refused by name.
+
+The plate foot's backing modulus is fitted beside the surface within the range of the foams and
+elastomers such backings are made of: 0.1-10 MPa (a soft polyurethane foam to a hard silicone;
+an acrylic foam tape is about 0.5-1 MPa)."""
 
 from __future__ import annotations
 
@@ -18,7 +22,8 @@ THIRD_BOUNDS = {
     "friction": (0.1, 1.5),
     "contact_stiffness": (1e7, 1e10),
 }
-FITTABLE = {**BOUNDS, **THIRD_BOUNDS}
+BACKING_BOUNDS = {"backing_modulus": (1e5, 1e7)}
+FITTABLE = {**BOUNDS, **THIRD_BOUNDS, **BACKING_BOUNDS}
 
 
 def _pair(option: str, text: str) -> tuple[str, str]:
@@ -28,7 +33,7 @@ def _pair(option: str, text: str) -> tuple[str, str]:
         raise ParamsError(option, f"{text!r} is not key=value")
     if key not in FITTABLE:
         raise ParamsError(
-            f"{option} {key}", f"is not a surface parameter the fit knows ({', '.join(FITTABLE)})"
+            f"{option} {key}", f"is not a parameter the fit knows ({', '.join(FITTABLE)})"
         )
     return key, value.strip()
 
@@ -72,10 +77,16 @@ def parse_bounds(texts: Iterable[str]) -> dict[str, tuple[float, float]]:
 
 
 def fit_bounds(
-    third: str | None, fixed: dict[str, float], overrides: dict[str, tuple[float, float]]
+    third: str | None,
+    fixed: dict[str, float],
+    overrides: dict[str, tuple[float, float]],
+    backing: bool = False,
 ) -> dict[str, tuple[float, float]]:
-    """The fitted parameters and their ranges: strength and G unless fixed, plus ``third``."""
+    """The fitted parameters and their ranges: strength and G unless fixed, plus ``third``, plus
+    the plate foot's backing modulus where ``backing``."""
     bounds = {k: v for k, v in BOUNDS.items() if k not in fixed}
+    if backing:
+        bounds.update({k: v for k, v in BACKING_BOUNDS.items() if k not in fixed})
     if third and third != "none":
         if third not in THIRD_BOUNDS:
             raise ParamsError(

@@ -4,9 +4,11 @@ report of the fit: where it sits on a bound or cap, and what it does to the film
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Any
 
-from ftfof.config import Params, Surface
+from ftfof.config import FootMechanics, Params, Robot, Surface
+from ftfof.errors import ParamsError
 from ftfof.identify.calibration import fit_bounds
 from ftfof.pipeline.bench import baseline_trajectories, bench, context_of
 from ftfof.pipeline.console import console
@@ -20,28 +22,38 @@ def fit_surface(
     fixed: dict[str, float] | None = None,
     bounds: dict[str, tuple[float, float]] | None = None,
 ) -> dict[str, Any]:
-    """Fit strength and fracture energy (and ``third``) with the Table I baselines; the report
-    (:func:`ftfof.sim.calibrate.surface_fit`)."""
-    from ftfof.sim.calibrate import TABLE_I, surface_fit
+    """Fit strength and fracture energy (and ``third``, and a plate foot's backing modulus) with
+    the Table I baselines; the report (:func:`ftfof.sim.calibrate.surface_fit`)."""
+    from ftfof.sim.calibrate import TABLE_I, surface_fit, trial_of
 
     fixed = fixed or {}
     ctx = context_of(params)
-    fitted = fit_bounds(third, fixed, bounds or {})
-    start = params.selected_surface.model_copy(update=fixed)
+    foot = ctx.robot.platform.foot
+    if "backing_modulus" in {*fixed, *(bounds or {})} and foot.model != "plate":
+        raise ParamsError("--fix/--bound backing_modulus", f"{ctx.name}'s foot has no backing")
+    fitted = fit_bounds(third, fixed, bounds or {}, backing=foot.model == "plate")
+    start, foot = trial_of(params.selected_surface, foot, fixed)
+    robot = _with_foot(ctx.robot, foot)
     trajectories = baseline_trajectories(params, ctx)
 
-    def specs_for(surface: Surface):
-        return baseline_specs(bench(params, ctx, surface), trajectories, TABLE_I)
+    def specs_for(surface: Surface, trial: FootMechanics):
+        on = replace(bench(params, ctx, surface), robot=_with_foot(robot, trial))
+        return baseline_specs(on, trajectories, TABLE_I)
 
     held = f"; holding {', '.join(f'{k} = {v:g}' for k, v in fixed.items())}" if fixed else ""
     console.print(
         f"calibrating surface {params.surface!r} on {ctx.name}: fitting {', '.join(fitted)}{held}"
     )
     workers = params.acquire.workers
-    report = surface_fit(ctx.robot, start, specs_for, fitted, fixed, workers, evaluations)
+    report = surface_fit(robot, start, specs_for, fitted, fixed, workers, evaluations)
     return {
         "surface": params.surface,
         "robot": ctx.name,
+        "foot": foot.model,
         **report,
         "baselines": params.baselines.model_dump(),
     }
+
+
+def _with_foot(robot: Robot, foot: FootMechanics) -> Robot:
+    return robot.model_copy(update={"platform": robot.platform.model_copy(update={"foot": foot})})

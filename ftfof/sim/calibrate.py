@@ -1,8 +1,9 @@
 """Fit a surface to FTFOF Table I with the polynomial and cycloidal baselines (docs/simulator.md).
 
 Fits the adhesive strength and fracture energy (either may be held fixed instead), plus at most
-one more surface parameter, so the simulated max detachment force and max pre-pressure of the two
-baselines land on the published values. Only baselines enter the fit; the optimum's improvement
+two more parameters (one of the surface's, and the plate foot's backing modulus), so the
+simulated max detachment force and max pre-pressure of the two baselines land on the published
+values: four targets, at most four values. Only baselines enter the fit; the optimum's improvement
 stays a prediction. The fit says which of its values sit on a bound or on the fracture-energy cap:
 there Table I does not decide the value, the bound does. :func:`surface_fit` fits under the
 robot's film cap and reports it.
@@ -32,7 +33,16 @@ TABLE_I: dict[str, dict[str, float]] = {
 ADHESION = ("strength", "fracture_energy")
 MEASURED = ("min_bend_radius", "peak_pull")  # reported beside Table I's, never fitted
 AT_BOUND = 5e-3  # a value this close (relative) to a bound or the cap sits on it
-LOG_SCALED = {"strength", "fracture_energy", "rate_speed", "preload_pressure", "contact_stiffness"}
+LOG_SCALED = {
+    "strength",
+    "fracture_energy",
+    "rate_speed",
+    "preload_pressure",
+    "contact_stiffness",
+    "backing_modulus",
+}
+FOOT = {"backing_modulus": "modulus"}  # fitted values of the foot's backing, not the surface
+SpecsFor = Callable[[config.Surface, config.FootMechanics], list[SampleSpec]]
 
 
 @dataclass
@@ -71,9 +81,31 @@ def _residuals(measured: dict[str, dict[str, float]]) -> dict[str, float]:
     }
 
 
+def trial_of(
+    surface: config.Surface, foot: config.FootMechanics, values: dict[str, float]
+) -> tuple[config.Surface, config.FootMechanics]:
+    """The surface and the foot with ``values`` set: the backing's keys on the foot's backing,
+    the rest on the surface."""
+    backing = {FOOT[k]: v for k, v in values.items() if k in FOOT}
+    if backing:
+        assert foot.backing is not None, "only a plate foot's backing can be fitted"
+        foot = foot.model_copy(update={"backing": foot.backing.model_copy(update=backing)})
+    on_surface = {k: v for k, v in values.items() if k not in FOOT}
+    return surface.model_copy(update=on_surface), foot
+
+
+def start_value(surface: config.Surface, foot: config.FootMechanics, name: str) -> float:
+    """A fitted parameter's value in ``surface`` or ``foot`` (the fit's start)."""
+    if name in FOOT:
+        assert foot.backing is not None, "only a plate foot's backing can be fitted"
+        return float(getattr(foot.backing, FOOT[name]))
+    return float(getattr(surface, name))
+
+
 def calibrate(
     surface: config.Surface,
-    specs_for: Callable[[config.Surface], list[SampleSpec]],
+    foot: config.FootMechanics,
+    specs_for: SpecsFor,
     bounds: dict[str, tuple[float, float]],
     workers: int = 0,
     max_evaluations: int = 80,
@@ -87,10 +119,11 @@ def calibrate(
     along that ridge G is set by the cap or a bound, which ``Calibration.active`` names.
     """
     names = list(bounds)
-    others = [n for n in names if n not in ADHESION]
-    if not names or len(others) > 1:
+    on_surface = [n for n in names if n not in ADHESION and n not in FOOT]
+    if not names or len(on_surface) > 1 or (set(names) & set(FOOT) and foot.backing is None):
         raise ValueError(
-            f"fit strength and/or fracture energy plus at most one more (got {names or 'none'})"
+            "fit strength and/or fracture energy, at most one more surface value and a plate"
+            f" foot's backing (got {names or 'none'})"
         )
     logs = np.array([n in LOG_SCALED for n in names])
     lo = np.array([bounds[n][0] for n in names], dtype=float)
@@ -113,8 +146,8 @@ def calibrate(
         values = from_x(x)
         key = tuple(np.round(values, 12))
         if key not in cache:
-            trial = surface.model_copy(update=dict(zip(names, map(float, values), strict=True)))
-            measured = _measure(run_all(specs_for(trial), workers))
+            trial = trial_of(surface, foot, dict(zip(names, map(float, values), strict=True)))
+            measured = _measure(run_all(specs_for(*trial), workers))
             res = np.array(list(_residuals(measured).values()))
             # Table I is met quantity by quantity: minimise the worst relative error first.
             cost = float(np.max(np.abs(res)) + 0.1 * np.mean(res**2))
@@ -122,7 +155,7 @@ def calibrate(
             history.append({**dict(zip(names, map(float, values), strict=True)), "cost": cost})
         return cache[key][0]
 
-    start = from_x(to_x(np.array([getattr(surface, n) for n in names], dtype=float)))
+    start = from_x(to_x(np.array([start_value(surface, foot, n) for n in names])))
     x0 = to_x(start)  # the surface's values within the bounds and the cap
     steps = np.where(logs, 0.3, 0.15)
     capped = max_fracture_energy is not None and i_energy is not None
@@ -154,24 +187,34 @@ def calibrate(
     )
 
 
+def fracture_energy_cap(robot: config.Robot) -> float | None:
+    """The grip foot's cap on G: its free film survives a steady peel at fc
+    (docs/decisions/0013). The plate backs the whole film, so no steady peel bends it: none."""
+    if robot.platform.foot.model == "plate":
+        return None
+    f = robot.platform.film
+    return film.survival_energy(f.bending_stiffness, f.width, robot.foot.film_min_bend_radius)
+
+
 def surface_fit(
     robot: config.Robot,
     start: config.Surface,
-    specs_for: Callable[[config.Surface], list[SampleSpec]],
+    specs_for: SpecsFor,
     bounds: dict[str, tuple[float, float]],
     fixed: dict[str, float],
     workers: int,
     evaluations: int,
 ) -> dict[str, Any]:
-    """:func:`calibrate` of ``bounds``'s parameters from ``start`` (``fixed`` held there), the
-    fracture energy capped where the robot's film survives the peel, and the report of the fit:
-    where it sits on a bound or the cap, and what it does to the film (:func:`film_report`)."""
-    f = robot.platform.film
-    cap = film.survival_energy(f.bending_stiffness, f.width, robot.foot.film_min_bend_radius)
-    fit = calibrate(start, specs_for, bounds, workers, evaluations, cap)
-    surface = start.model_copy(update=fit.values)
+    """:func:`calibrate` of ``bounds``'s parameters from ``start`` and the robot's foot (``fixed``
+    held there), the fracture energy capped where the film needs it (:func:`fracture_energy_cap`),
+    and the report of the fit: where it sits on a bound or the cap, and what it does to the film
+    (:func:`film_report`)."""
+    cap = fracture_energy_cap(robot)
+    foot = robot.platform.foot
+    fit = calibrate(start, foot, specs_for, bounds, workers, evaluations, cap)
+    surface, _ = trial_of(start, foot, fit.values)
     active = dict(fit.active)
-    if fixed.get("fracture_energy", 0.0) > cap:  # held there by hand: the report says so
+    if cap is not None and fixed.get("fracture_energy", 0.0) > cap:  # held there by hand
         active["fracture_energy"] = "fixed above the fracture-energy cap"
     return {
         "targets": TABLE_I,

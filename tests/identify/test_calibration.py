@@ -23,7 +23,7 @@ def test_a_fixed_value_leaves_the_fit_and_a_bound_replaces_the_default_range():
 @pytest.mark.parametrize(
     ("fixes", "bounds", "third", "message"),
     [
-        (["stregth=1"], [], "none", "--fix stregth: is not a surface parameter the fit knows"),
+        (["stregth=1"], [], "none", "--fix stregth: is not a parameter the fit knows"),
         (["strength"], [], "none", "--fix: 'strength' is not key=value"),
         (["strength=-3"], [], "none", "--fix strength: must be a positive number"),
         ([], ["strength=1e5:1e4"], "none", "--bound strength: needs lo < hi"),

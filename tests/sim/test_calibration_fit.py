@@ -40,7 +40,8 @@ def _fit(monkeypatch, params, true=TRUE, failing=(), cap=None, bounds=BOUNDS, st
     surface = params.surfaces["acrylic"].model_copy(update=start)
     return cal.calibrate(
         surface,
-        lambda trial: [(name, trial) for name in cal.TABLE_I],
+        params.selected_robot.platform.foot,
+        lambda trial, foot: [(name, trial) for name in cal.TABLE_I],
         bounds,
         max_evaluations=200,
         max_fracture_energy=cap,
@@ -98,7 +99,13 @@ def test_a_held_out_trajectory_cannot_enter_the_fit(monkeypatch, params, held_ou
     monkeypatch.setattr(cal, "run_all", run_all)
     bounds = {"strength": (5e3, 1e5), "fracture_energy": (5.0, 500.0)}
     with pytest.raises(ValueError, match=f"only polynomial, cycloidal .*{held_out}"):
-        cal.calibrate(params.surfaces["acrylic"], lambda trial: [], bounds, max_evaluations=4)
+        cal.calibrate(
+            params.surfaces["acrylic"],
+            params.selected_robot.platform.foot,
+            lambda trial, foot: [],
+            bounds,
+            max_evaluations=4,
+        )
 
 
 def test_ftfof_calibrate_simulates_the_polynomial_and_the_cycloid_only(monkeypatch, params):
@@ -106,8 +113,8 @@ def test_ftfof_calibrate_simulates_the_polynomial_and_the_cycloid_only(monkeypat
 
     seen = []
 
-    def fake_calibrate(surface, specs_for, bounds, workers, evaluations, cap):
-        seen.extend(spec.source for spec in specs_for(surface))
+    def fake_calibrate(surface, foot, specs_for, bounds, workers, evaluations, cap):
+        seen.extend(spec.source for spec in specs_for(surface, foot))
         return SimpleNamespace(
             values={}, residuals={}, measured={}, worst=0.0, evaluations=0, history=[], active={}
         )
@@ -129,7 +136,7 @@ def test_the_fit_report_names_the_films_cap_and_a_value_held_above_it(monkeypatc
     report = cal.surface_fit(
         robot,
         start,
-        lambda trial: [(name, trial) for name in cal.TABLE_I],
+        lambda trial, foot: [(name, trial) for name in cal.TABLE_I],
         {"strength": (5e3, 1e5)},
         {"fracture_energy": 1e4},
         0,
@@ -148,3 +155,43 @@ def test_the_fit_report_names_the_films_cap_and_a_value_held_above_it(monkeypatc
     }
     assert report["film"]["fc"] == robot.foot.film_min_bend_radius
     assert report["evaluations"] == len(report["history"]) <= 40
+
+
+def test_a_plate_foots_backing_is_fitted_beside_the_surface(monkeypatch, params):
+    """Table I's pre-pressure rises with the backing's modulus, the pull with the strength."""
+    from ftfof.config import FootMechanics
+    from tests.sim.test_foot import PLATE
+
+    true_strength, true_modulus = 20000.0, 2.0e6
+
+    def run_all(specs, workers):
+        out = []
+        for name, surface, foot in specs:
+            s = surface.strength / true_strength
+            e = foot.backing.modulus / true_modulus
+            t = cal.TABLE_I[name]
+            scalars = {
+                "peak_detachment": t["peak_detachment"] * s**0.5 * e**0.1,
+                "peak_pre_pressure": t["peak_pre_pressure"] * s**0.05 * e**0.3,
+            }
+            out.append(SimpleNamespace(source=f"baseline:{name}", ok=True, scalars=scalars))
+        return out
+
+    monkeypatch.setattr(cal, "run_all", run_all)
+    plate = FootMechanics.model_validate(PLATE)  # starts at 1 MPa
+    surface = params.surfaces["acrylic"].model_copy(update=START)
+    bounds = {"strength": (5e3, 1e5), "backing_modulus": (1e5, 1e7)}
+
+    def specs_for(trial, foot):
+        return [(name, trial, foot) for name in cal.TABLE_I]
+
+    fit = cal.calibrate(surface, plate, specs_for, bounds, max_evaluations=200)
+    assert fit.values["strength"] == pytest.approx(true_strength, rel=0.02)
+    assert fit.values["backing_modulus"] == pytest.approx(true_modulus, rel=0.02)
+    assert fit.worst < 0.01 and fit.active == {}
+    fitted_surface, fitted_foot = cal.trial_of(surface, plate, fit.values)
+    assert fitted_foot.backing.modulus == fit.values["backing_modulus"]
+    assert fitted_surface.strength == fit.values["strength"]
+    grip = plate.model_copy(update={"model": "grip", "backing": None})
+    with pytest.raises(ValueError, match="a plate foot's backing"):
+        cal.calibrate(surface, grip, specs_for, bounds, max_evaluations=4)

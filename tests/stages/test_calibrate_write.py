@@ -44,3 +44,21 @@ def test_full_line_comments_under_a_fitted_key_are_kept():
         "    # on two lines",
     ]
     assert yaml.safe_load(text)["surfaces"]["acrylic"] == {"strength": 2.5, "friction": 0.6}
+
+
+def test_a_fitted_backing_modulus_is_written_on_the_robots_foot():
+    from stages.calibrate import update_backing
+
+    params = (
+        "robots:\n  m3f:\n    platform:\n      foot:\n        backing:\n"
+        "          modulus: 1.0e6  # a guess\n          thickness: 0.001\n"
+    )
+    text = edit_yaml(
+        params, lambda doc: update_backing(doc, "m3f", {"modulus": 2.5e6}), Path("p.yaml")
+    )[0]
+    assert "modulus: 2500000.0  # fitted by ftfof calibrate" in text
+    backing = yaml.safe_load(text)["robots"]["m3f"]["platform"]["foot"]["backing"]
+    assert backing == {"modulus": 2.5e6, "thickness": 0.001}
+    grip = "robots:\n  m3f:\n    platform:\n      foot:\n        mass: 0.05\n"
+    with pytest.raises(ParamsError, match=r"m3f.platform.foot.backing: has no key"):
+        edit_yaml(grip, lambda doc: update_backing(doc, "m3f", {"modulus": 1.0}), Path("p.yaml"))

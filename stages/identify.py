@@ -33,6 +33,13 @@ def command(
             "identified shear, sets the preset's shear_capacity_ratio."
         ),
     ] = None,
+    speeds: Annotated[
+        str | None,
+        typer.Option(
+            help="Two drag speeds, m/s, comma-separated (with --simulate): slip tests at each "
+            "recover the rate law's n and v*, F_adh,0 taken as the preset's."
+        ),
+    ] = None,
     if_enabled: Annotated[
         bool,
         typer.Option("--if-enabled", help="Do nothing but say so when identify.enabled is false."),
@@ -48,6 +55,7 @@ def command(
     before anything is written, naming file, row and column."""
     from ftfof.errors import ParamsError
     from ftfof.identify import fit
+    from ftfof.identify.estimate import Estimate
     from ftfof.pipeline import identify as ident
     from ftfof.pipeline.params_file import load_params
     from ftfof.report.identify import convergence_figure
@@ -61,6 +69,9 @@ def command(
         return
     if simulate and log is not None:
         raise ParamsError("identify", "give --log PATH or --simulate, not both")
+    drag_speeds = fit.parse_speeds(speeds) if speeds is not None else None
+    if drag_speeds is not None and not simulate:
+        raise ParamsError("--speeds", "runs simulated slip tests: give it with --simulate")
     if not simulate and log is None and settings.log is not None:
         log = Path(settings.log)
         if not log.is_relative_to(LOGS):
@@ -71,14 +82,18 @@ def command(
     true = ident.truth(params, name) if log is None else None
     source = "simulated slip test" if log is None else str(log)
     out = fit.report(name, source, ls, track, true)
+    out["adhesion_0"] = ident.quasi_static(params, name, track.final, log is None)
+    if drag_speeds is not None:
+        out["rate_law"] = ident.rate_law(params, name, drag_speeds)
     pull_off = ident.read_calibration(calibration, name) if calibration else None
-    block = ident.preset(params, name, source, track.final, pull_off)
+    static = Estimate(track.final.mu, out["adhesion_0"]["estimate"])
+    block = ident.preset(params, name, source, static, pull_off)
     ident.write_outputs(out, convergence_figure(out, track), block, paths)
     if write_params:
         ident.write_surface(params_path, name, block, params.surfaces[name])
         console.print(f"wrote the identified values of {name} into {params_path}")
     console.print(
         f"{name}: mu = {track.final.mu:.4f} (least squares {ls.mu:.4f}), "
-        f"F_adh = {track.final.adhesion:.3f} N per pad (least squares {ls.adhesion:.3f}); "
-        f"preset block in {paths.preset}"
+        f"F_adh = {track.final.adhesion:.3f} N per pad (least squares {ls.adhesion:.3f}), "
+        f"F_adh,0 = {static.adhesion:.3f} N; preset block in {paths.preset}"
     )

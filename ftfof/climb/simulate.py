@@ -78,7 +78,8 @@ def gait_of(spec: ClimbSpec) -> Gait:
 def controller_of(model: Climber, replanner: Replanner) -> FeedForward | None:
     """The stance feet's force control ``climb.controller`` asks for (None: off). It believes
     every pad is on the selected surface, pressed to the pre-pressure: F_adh as the bond law
-    gives it (:func:`ftfof.sim.slip.adhesion_truth`), and its pull-off (:func:`pull_off_of`)."""
+    gives it (:func:`ftfof.sim.slip.adhesion_truth`, quasi-static), taken as its cone's shift
+    F_adh / mu, and its pull-off (:func:`pull_off_of`)."""
     spec = model.spec
     mode = spec.climb.controller
     if mode is None:
@@ -86,7 +87,7 @@ def controller_of(model: Climber, replanner: Replanner) -> FeedForward | None:
     climber = spec.robot.climber
     assert climber is not None
     area = float(model.pads[0].area.sum())
-    adhesion = adhesion_truth(model.law, spec.robot.pre_pressure, area)
+    adhesion = adhesion_truth(model.law, spec.robot.pre_pressure, area) / model.law.friction
     pull_off = pull_off_of(model.law, spec.surface, spec.robot.pre_pressure, area)
     return FeedForward(
         mode=mode,
@@ -102,8 +103,8 @@ def controller_of(model: Climber, replanner: Replanner) -> FeedForward | None:
 
 def pull_off_of(law: BondLaw, surface: config.Surface, preload: float, area: float) -> float:
     """The most a pad pressed with ``preload`` holds pulled straight off the wall, N: its bonds'
-    normal strength, s sigma A, with s the preload factor as in adhesion_truth. F_adh, the shear
-    capacity s tau_max A / mu, is k / mu times it (acrylic: 34.7 N against 10.4 N). A film pulled
+    normal strength, s sigma A, with s the preload factor as in adhesion_truth. The cone's shift
+    F_adh / mu = s tau_max A / mu is k / mu times it (acrylic: 34.7 N against 10.4 N). A film pulled
     at its heel peels below s sigma A (Kendall's steady peel at 90 degrees, b G, is 1.5 N on
     acrylic), but the pads hold more than that: a stance fore pad carries 1.9-2.5 N for seconds
     (the trunk's moment on a lone fore foot) and a whole-bonded one 8.3 N at its partner's

@@ -1,8 +1,12 @@
-"""The estimators of climbing_slip §4.1 on F_t = mu (F_n + F_adh): least squares and the
-Kalman-filter-like estimator over windows of samples.
+"""The estimators of climbing_slip §4.1 on the slip law F_t = mu F_n + F_adh: least squares and
+the Kalman-filter-like estimator over windows of samples.
 
-F_n is the normal load pressing the pad (compression positive), F_t the tangential force while
-the pad slips, F_adh the adhesion force that friction sees as extra normal load.
+F_n is the normal load pressing the pad (compression positive), F_t the peak tangential force of
+a slip, F_adh the adhesion's share of it, a force along the slip (docs/decisions/0027): the pad's
+bonds hold F_adh whatever the load, friction adds mu F_n. climbing_slip writes the same line as
+mu (F_n + F_adh'), a cone shifted by F_adh' = F_adh / mu (the climbing controller's form,
+:mod:`ftfof.climb.control.slip`); the tangential form keeps the adhesion in newtons of shear, and
+the line is linear in (mu, F_adh), so the filter needs no linearisation.
 """
 
 from __future__ import annotations
@@ -13,7 +17,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 Array = NDArray[np.float64]
-PROCESS = (4e-6, 0.01)  # Q = diag(mu, F_adh), the seed's values
+# Q = diag(mu, F_adh): the seed's values, its F_adh walk carried from the cone's shift to the
+# tangential form (times mu^2, mu about 0.45)
+PROCESS = (4e-6, 0.002)
 OBSERVATION = 0.25  # R per sample, N^2
 WINDOW = 15  # samples per update
 
@@ -25,10 +31,10 @@ class Estimate:
 
 
 def least_squares(fn: Array, ft: Array) -> Estimate:
-    """F_t = mu F_n + c in closed form (the seed's FONC); F_adh = c / mu."""
+    """F_t = mu F_n + F_adh in closed form (the seed's FONC)."""
     A = np.stack([fn, np.ones_like(fn)], axis=1)
-    (mu, c), *_ = np.linalg.lstsq(A, ft, rcond=None)
-    return Estimate(float(mu), float(c / mu))
+    (mu, adhesion), *_ = np.linalg.lstsq(A, ft, rcond=None)
+    return Estimate(float(mu), float(adhesion))
 
 
 @dataclass(frozen=True)
@@ -52,15 +58,11 @@ def kalman(
     process: tuple[float, float] = PROCESS,
     observation: float = OBSERVATION,
     spread: tuple[float, float] = (1.0, 100.0),
-    iterations: int = 5,
 ) -> Track:
     """The state (mu, F_adh) propagates as a random walk of covariance Q per window; each window
-    of ``window`` samples observes F_t through h = mu (F_n + F_adh), linearised at the estimate
-    with the measured F_n as the observation model: H_k = [F_n,k + F_adh, mu]. ``spread`` is the
-    initial standard deviation of (mu, F_adh); samples past the last whole window are dropped.
-    Each window's update re-linearises ``iterations`` times (an iterated EKF): with a single
-    linearisation a start far from the truth leaves the filter stuck on the wrong branch of
-    mu F_adh = const, which Q's small mu walk cannot leave (0.66 for 0.45 on the unit test)."""
+    of ``window`` samples observes F_t = mu F_n + F_adh, H_k = [F_n,k, 1], linear in the state,
+    so one update per window is exact. ``spread`` is the initial standard deviation of
+    (mu, F_adh); samples past the last whole window are dropped."""
     n = fn.size // window
     if n == 0:
         raise ValueError(f"the Kalman estimator needs at least {window} samples, got {fn.size}")
@@ -73,13 +75,9 @@ def kalman(
     out = np.empty((n, 2))
     for k in range(n):
         P = P + Q
-        prior, x_k = x, x
-        for _ in range(iterations):  # iterated linearisation: Gauss-Newton on the window
-            H = np.stack([Fn[k] + x_k[1], np.full(window, x_k[0])], axis=1)
-            y = Ft[k] - x_k[0] * (Fn[k] + x_k[1]) - H @ (prior - x_k)
-            K = np.linalg.solve(H @ P @ H.T + R, H @ P).T
-            x_k = prior + K @ y
-        x = x_k
+        H = np.stack([Fn[k], np.ones(window)], axis=1)
+        K = np.linalg.solve(H @ P @ H.T + R, H @ P).T
+        x = x + K @ (Ft[k] - H @ x)
         P = (np.eye(2) - K @ H) @ P
         out[k] = x
     return Track(np.arange(1, n + 1) * window, out[:, 0], out[:, 1])

@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 
 from ftfof.config import Surface
+from ftfof.errors import ParamsError
 from ftfof.identify.estimate import Estimate, Track, kalman, least_squares
 from ftfof.identify.log import SlipLog, slip_samples
 
@@ -39,8 +40,19 @@ def report(
         "slip_samples": int(track.samples[-1]),
         "mu": block("mu"),
         "adhesion": block("adhesion"),
-        "adhesion_unit": "N per pad",
+        "adhesion_unit": "N per pad, of shear: F_t = mu F_n + F_adh",
     }
+
+
+def parse_speeds(text: str) -> list[float]:
+    """``--speeds v1,v2``: two distinct positive drag speeds, m/s."""
+    try:
+        speeds = [float(v) for v in text.split(",")]
+    except ValueError:
+        raise ParamsError("--speeds", f"{text!r} is not two numbers, v1,v2 (m/s)") from None
+    if len(speeds) != 2 or min(speeds) <= 0 or speeds[0] == speeds[1]:
+        raise ParamsError("--speeds", f"needs two distinct positive speeds, got {text!r}")
+    return speeds
 
 
 def preset_block(

@@ -24,11 +24,13 @@ class SlipLog:
         return {name: getattr(self, name) for name in COLUMNS}
 
 
-def slip_samples(log: SlipLog, band: float = 0.05) -> NDArray[np.bool_]:
+def slip_samples(log: SlipLog, band: float = 0.01) -> NDArray[np.bool_]:
     """The samples at the friction limit: in each load's run, those up to its peak tangential
-    force whose force is within ``band`` of that peak (the bonds letting go). After the peak the
-    pad slides on broken bonds and re-bonds, which the law F_t = mu (F_n + F_adh) does not
-    describe, so those are left out."""
+    force whose force is within ``band`` of that peak (the bonds letting go). The peak is broad
+    (the bonds soften over their opening while friction holds mu F_n), and samples a few
+    per cent below it lie on its rising flank, still elastic: the band is 1 %. After the peak
+    the pad slides on broken bonds, which the law F_t = mu F_n + F_adh does not describe, so
+    those are left out."""
     keep = np.zeros(log.t.size, dtype=bool)
     starts = np.flatnonzero(np.r_[True, np.diff(log.load) != 0])
     for a, b in zip(starts, np.r_[starts[1:], log.t.size], strict=True):

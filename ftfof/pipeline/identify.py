@@ -4,7 +4,7 @@ friction and adhesion, write the report, the convergence plot and a surface pres
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -23,7 +23,7 @@ from ftfof.pipeline.summaries import write_metrics
 from ftfof.sim import identified
 from ftfof.sim.bonds import BondLaw
 from ftfof.sim.identified import PROTOCOL, simulated_log
-from ftfof.sim.slip import SlipProtocol
+from ftfof.sim.slip import SlipProtocol, adhesion_truth
 from ftfof.sim.spec import Bench
 
 COMMENT = "identified by ftfof identify (reports/identify.json)"
@@ -67,9 +67,41 @@ def law_of(params: Params, name: str) -> BondLaw:
 
 
 def truth(params: Params, name: str) -> Estimate:
-    """mu and F_adh per pad the preset and the bond law imply
+    """mu and F_adh per pad the preset and the bond law imply at the test's drag speed
     (:func:`ftfof.sim.identified.truth`)."""
     return identified.truth(law_of(params, name), params.selected_robot)
+
+
+def quasi_static(params: Params, name: str, est: Estimate, simulated: bool) -> dict[str, Any]:
+    """The report's F_adh,0 block: the estimate taken back to no rate through the preset's rate
+    law at the protocol's speed (a log is taken to follow `ftfof slip-test`'s protocol), beside
+    the preset's F_adh,0 where the log is simulated."""
+    law, robot = law_of(params, name), params.selected_robot
+    true = adhesion_truth(law, robot.pre_pressure, robot.pad_area) if simulated else None
+    return {
+        "estimate": identified.quasi_static(law, est.adhesion, PROTOCOL.speed),
+        "truth": true,
+        "speed": PROTOCOL.speed,
+    }
+
+
+def rate_law(params: Params, name: str, speeds: list[float]) -> dict[str, Any]:
+    """The rate law's n and v* from simulated slip tests at two ``speeds``, F_adh,0 taken as the
+    preset's (:func:`ftfof.sim.identified.rate_law`), beside the preset's n and v*."""
+    from ftfof.identify import fit
+
+    law, robot = law_of(params, name), params.selected_robot
+    drags = {
+        v: fit.identify(simulate_slip(params, name, replace(PROTOCOL, speed=v)))[1].final.adhesion
+        for v in speeds
+    }
+    got = identified.rate_law(law, adhesion_truth(law, robot.pre_pressure, robot.pad_area), drags)
+    return {
+        "speeds": sorted(drags),
+        "adhesion": [drags[v] for v in sorted(drags)],
+        "exponent": {"estimate": got.exponent, "truth": law.rate_exponent},
+        "rate_speed": {"estimate": got.speed, "truth": law.rate_speed},
+    }
 
 
 def write_log(log: SlipLog, path: Path) -> None:
@@ -107,7 +139,7 @@ def read_calibration(path: Path, surface: str) -> float:
 def preset(
     params: Params, name: str, source: str, est: Estimate, pull_off: float | None = None
 ) -> dict[str, Any]:
-    """Surface ``name``'s preset with the identified values
+    """Surface ``name``'s preset with the identified mu and quasi-static F_adh,0 in ``est``
     (:func:`ftfof.sim.identified.identified_preset`)."""
     law, robot = law_of(params, name), params.selected_robot
     return identified.identified_preset(law, robot, surface_of(params, name), source, est, pull_off)

@@ -1,42 +1,43 @@
-"""The adhesive interface: one cohesive bond per film node (docs/simulator.md).
+"""The adhesive interface: one cohesive bond and one friction slider per film node
+(docs/simulator.md, "Adhesive interface").
 
-Force law (evaluated in C++ as a symbolic user function, see :mod:`ftfof.sim.pad`), per node
-with opening u_n (film above plate), slip u_t from the bond's anchor and pad area A:
+Force law (a symbolic user function evaluated in C++, :mod:`ftfof.sim.pad`), per node with
+opening u_n (film above plate), slip u_t from the bond's anchor and pad area A:
 
-- bonded: f = s A (K_t u_t, K u_n) — linear springs through zero whose stiffness is scaled by
+- bonded: the cohesive bond f = s A (K_t u_t, K u_n), springs through zero scaled by
   s = phi * R * (1 - D): the preload factor phi = 1 - exp(-p_max / p*) of the peak contact
-  pressure seen while bonded, the rate factor R = max over the current loading of
-  1 + (v / v*)^n, v the rate of the *mixed-mode* opening (normal and shear alike, each relative
-  to its own critical opening) low-passed over RATE_FILTER seconds (so the snap of a
-  neighbour's release does not count as loading rate), and the damage D of the softening
-  branch; all three are history variables, so Newton sees a constant law within each step;
-- every node: unilateral contact with a C1 ramp of width w (stiffness rises 0 -> Kc A over w)
-  and Hunt-Crossley damping; broken nodes in contact get Coulomb friction mu * N (regularised).
+  pressure seen while bonded, the rate factor R = 1 + (v / v*)^n of the bond's current
+  mixed-mode opening rate v (low-passed over RATE_FILTER seconds, so that a neighbour's snap is
+  no loading rate), and the damage D of the softening branch; history variables, so Newton sees
+  a constant law within each step;
+- every node: unilateral contact, a C1 ramp of width w (stiffness 0 -> Kc A) with Hunt-Crossley
+  damping; and, in contact, bonded or broken, friction from an elastic-plastic spring-slider,
+  f = clip(k_t A (x - a_f), +-mu N), N the node's compressive force (the contact plus a pressed
+  bond's spring), its anchor a_f moved by return mapping between steps: below mu N it sticks
+  without creep. Friction takes no rate factor.
 
-Each mode is bilinear (elastic, then linear softening) and energy-consistent: mode I has the
-strength sigma, the critical opening d_n = 2 G / sigma and the elastic stiffness
-K = sigma / (r d_n); mode II has tau = k sigma (k: the surface's lap-shear to pull-off ratio),
-G_II and d_t = 2 G_II / tau, K_t = tau / (r d_t). The elastic fraction r = sigma / (Kc d_n) makes
-the bond as stiff in tension as the adhesive layer is in compression (r = 1, a brittle law, if
-the layer is softer than that). With the mixed-mode opening
-lambda = sqrt((max(u_n, 0) / d_n)^2 + (u_t / d_t')^2), the bond is elastic up to lambda = r,
-softens with the secant factor 1 - D = r (1 - lambda_max) / (lambda_max (1 - r)) beyond, and
-breaks at lambda = 1; each mode then has released exactly its fracture energy, and with
-G_II = G a mixed-mode opening releases G whatever its mixity (Kendall's peel needs one G).
-Under compression p the shear allowance grows by the friction the pressure adds
-(adhesion-offset Coulomb: |tau| <= s tau_max + mu p), d_t' = d_t (1 + mu p / (s tau)), so a
-pressed pad does not shear off at its bare bond strength.
-A broken node pressed above the re-bond pressure forms a new bond anchored where it lies.
+Each mode of the bond is bilinear and energy-consistent: mode I has the strength sigma, the
+critical opening d_n = 2 G / sigma and the stiffness K = sigma / (r d_n); mode II has
+tau = k sigma (k: the lap-shear to pull-off ratio), G_II, d_t = 2 G_II / tau and
+K_t = tau / (r d_t). The elastic fraction r = sigma / (Kc d_n) makes the bond as stiff in
+tension as the adhesive layer is in compression (r = 1, brittle, if the layer is softer). With
+the mixed-mode opening lambda = sqrt((max(u_n, 0) / d_n)^2 + (u_t / d_t)^2) the bond is elastic
+up to lambda = r, softens with the secant factor 1 - D = r (1 - lambda_max) / (lambda_max (1 - r))
+beyond, and breaks at lambda = 1, each mode having released its fracture energy (with G_II = G,
+G whatever the mixity: Kendall's peel needs one G). The bond breaks on its own opening; friction
+beside it holds mu N, so a sliding pad follows F_t = mu F_n + F_adh with F_adh = R phi tau A.
+A broken node re-bonds, anchored where it lies, when pressed above the re-bond pressure while
+its slider sticks.
 
 :func:`step` is the per-time-step state machine the simulator's pre-step calls: it reads node
-states, updates the bond state in place and lists the bonds whose connector parameters must be
-pushed. Compiled, it costs about a microsecond for 20 nodes.
+states, updates the bond and slider states in place and lists the connectors whose parameters
+must be pushed. Compiled, it costs about a microsecond for 20 nodes.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import TypeVar
 
 import numba
@@ -47,10 +48,12 @@ import ftfof.config as config
 
 Array = NDArray[np.float64]
 
-BREAK, SCALE, REBOND = 1, 2, 3
+# push flags, or-ed per node: the damping slots (broken, scale) and the offset slots (anchors)
+BREAK, SCALE, REBOND, SLIDE = 1, 2, 4, 8
 PUSH_STEP = 0.02  # push a scale once the traction would be off by this fraction of the strength
+# (and a friction anchor once the friction would be off by this fraction of mu N)
 RATE_FILTER = 0.01  # s, time constant of the opening-rate low-pass
-LOADED = 0.05  # a bond counts as loaded (its rate history grows) above this lambda / r
+LOADED = 0.05  # the rate factor ramps in over lambda / r in [0, LOADED] (no step in the force)
 # a broken node this far above the plate (m), and not closing faster than it can cover in
 # IDLE_STEPS steps, has its connector switched off (:func:`idle_changes`)
 IDLE_HEIGHT = 1.0e-3
@@ -70,8 +73,7 @@ class BondLaw:
     contact_stiffness: float  # Pa/m
     contact_smoothing: float  # w, m
     hunt_crossley: float  # 1.5 (1 - e) / v_ref, s/m
-    friction: float
-    friction_speed: float  # regularisation of Coulomb friction, m/s
+    friction: float  # mu
     rate_exponent: float
     rate_speed: float
     preload_pressure: float
@@ -94,7 +96,6 @@ class BondLaw:
             contact_smoothing=smoothing,
             hunt_crossley=1.5 * (1 - surface.restitution) / 0.1,
             friction=surface.friction,
-            friction_speed=1e-3,
             rate_exponent=surface.rate_exponent,
             rate_speed=surface.rate_speed,
             preload_pressure=surface.preload_pressure,
@@ -103,6 +104,13 @@ class BondLaw:
 
     def preload_factor(self, pressure: Array | float) -> Array:
         return preload_factor(np.asarray(pressure), self.preload_pressure)
+
+    def drag_rate_factor(self, speed: float) -> float:
+        """R of a bond sheared at ``speed`` (m/s), as a steady drag shears the pad's bonds:
+        its opening lambda grows at speed / d_t, which the rate law, whose v* is a speed of
+        normal opening, reads as speed d_n / d_t."""
+        v = speed * self.critical_opening / self.shear_opening
+        return 1.0 + (v / self.rate_speed) ** self.rate_exponent
 
     def contact_pressure(self, opening: Array, opening_rate: Array) -> Array:
         """:func:`contact_pressure` on arrays, with this surface's constants."""
@@ -165,29 +173,102 @@ def _min(a: float, b: float) -> float:
 
 @dataclass
 class BondState:
-    """Mutable per-node state: anchors in the plate frame, broken flags, preload history."""
+    """Mutable per-node state: anchors in the plate frame, broken flags, preload history and the
+    friction sliders' anchors."""
 
     anchor: Array  # x of the bond point on the plate, m
     broken: NDArray[np.bool_]
     p_max: Array  # peak contact pressure while bonded, Pa
-    rate: Array  # rate factor history R of the current loading
+    rate: Array  # rate factor R of the current opening rate
     scale: Array  # phi * R * (1 - D) as last pushed to the connector
     opening_rate: Array  # low-passed opening rate, m/s
     opening_max: Array  # peak mixed-mode opening lambda of the bond (its damage)
+    slider: Array  # the friction slider's anchor a_f on the plate, m
+    slider_pushed: Array  # a_f as last pushed to the connector
 
     @classmethod
     def bonded(cls, x: Array, initial_pressure: float, law: BondLaw) -> BondState:
-        n = len(x)
-        p = np.full(n, initial_pressure)
-        return cls(
-            x.astype(float).copy(),
-            np.zeros(n, bool),
-            p,
-            np.ones(n),
-            law.preload_factor(p),
-            np.zeros(n),
-            np.zeros(n),
-        )
+        n, x = len(x), x.astype(float)
+        p, zero = np.full(n, initial_pressure), np.zeros(n)
+        phi = law.preload_factor(p)
+        return cls(x.copy(), np.zeros(n, bool), p, np.ones(n), phi, zero, zero.copy(), x, x.copy())
+
+    def arrays(self) -> tuple[np.ndarray, ...]:
+        """The state in :func:`step`'s argument order."""
+        return tuple(getattr(self, f.name) for f in fields(self))
+
+
+@numba.njit
+def _slider(
+    i: int,
+    rel: float,
+    normal: float,
+    anchor: Array,
+    pushed: Array,
+    mu: float,
+    kt: float,
+    tol: float,
+    floor: float,
+) -> tuple[bool, bool]:  # pragma: no cover - compiled
+    """Return mapping of node i's friction slider at film x ``rel`` on the plate, pressed with
+    ``normal`` (N), stiffness ``kt`` (N/m): (whether it sticks, whether its anchor must be
+    pushed: the connector's friction would be off by more than ``tol`` of mu N plus ``floor``,
+    N: a bonded node's own push tolerance). A node not pressed carries no friction whatever its
+    anchor: the anchor follows it, unpushed.
+
+    k_t is the bond's shear stiffness K_t A (both shear the same layer): a node sticks within
+    mu p / K_t (about a micrometre), well inside the bond's elastic reach r d_t, so a pressed pad
+    holds its mu F_n when its bonds peak (the layer's Kc / 3, twenty times softer, did not)."""
+    limit = mu * normal
+    if limit <= 0.0:
+        anchor[i] = rel
+        return False, False
+    trial = kt * (rel - anchor[i])
+    sticks = abs(trial) <= limit * (1.0 + 1e-9)  # one held at its cone's edge (rounding) sticks
+    if abs(trial) > limit:
+        anchor[i] = rel - np.sign(trial) * limit / kt
+    return sticks, kt * abs(anchor[i] - pushed[i]) > tol * limit + floor
+
+
+@numba.njit
+def _bond(
+    i: int,
+    ut: float,
+    un: float,
+    vt: float,
+    vn: float,
+    pressure: float,
+    h: float,
+    law: tuple[float, ...],
+    broken: NDArray[np.bool_],
+    history: tuple[Array, Array, Array, Array, Array],
+) -> tuple[int, float]:  # pragma: no cover - compiled
+    """One bonded node's update: (push flags, its load lambda / r capped at 1; -1 if it broke).
+    ``history``: p_max, rate, scale, opening_rate, opening_max, as in :class:`BondState`."""
+    d_c, d_t, r, n_rate, v_star, p_star, push_step = law[:7]
+    p_max, rate, scale, opening_rate, opening_max = history
+    a_n, a_t = max(un, 0.0) / d_c, ut / d_t
+    lam = np.sqrt(a_n * a_n + a_t * a_t)
+    if lam >= 1.0:
+        broken[i] = True
+        return BREAK, -1.0
+    p_max[i] = max(p_max[i], pressure)
+    # rate of the mixed-mode opening, in units of the normal critical opening per second
+    v_mixed = d_c * (a_n * vn / d_c + a_t * vt / d_t) / lam if lam > 0.0 else max(vn, 0.0)
+    opening_rate[i] += (v_mixed - opening_rate[i]) * min(h / RATE_FILTER, 1.0)
+    loaded = min(lam / (LOADED * r), 1.0)
+    rate[i] = 1.0 + loaded * (max(opening_rate[i], 0.0) / v_star) ** n_rate
+    opening_max[i] = max(opening_max[i], lam)
+    healthy = _preload_factor(p_max[i], p_star) * rate[i]
+    target = healthy
+    if opening_max[i] > r:  # softening branch: secant stiffness of the bilinear law
+        target *= r * (1.0 - opening_max[i]) / (opening_max[i] * (1.0 - r))
+    load = min(lam / r, 1.0)
+    # push once the traction would be off by push_step of the bond's strength
+    if abs(target - scale[i]) * max(lam / r, 1.0) > push_step * healthy:
+        scale[i] = target
+        return SCALE, load
+    return 0, load
 
 
 @numba.njit(cache=True)
@@ -205,78 +286,62 @@ def step(
     scale: Array,
     opening_rate: Array,
     opening_max: Array,
+    slider: Array,
+    slider_pushed: Array,
     h: float,
     law: tuple[float, ...],
     push: NDArray[np.int64],
     kind: NDArray[np.int64],
 ) -> tuple[int, int, float, float]:  # pragma: no cover - compiled
-    """One pre-step update.
+    """One pre-step update; lists each node with something to push once, its flags or-ed.
 
     Returns (pushes, bonded count, lowest film height, largest bond load: the opening lambda / r,
     1 once a bond softens); the last tells the step control how close the next bond failure is.
     """
-    d_c, d_t, tau, r, mu, kc, w, hc, p_star, p_rebond, n_rate, v_star, push_step = law
-    n = node_index.size
-    n_push = 0
-    n_bonded = 0
-    lam_max = 0.0
-    lowest = np.inf
+    d_t, r = law[1], law[2]
+    p_star, push_step, mu, kc, w, hc, p_rebond, k_n, k_t = law[5:]
+    n_push = n_bonded = 0
+    lam_max, lowest = 0.0, np.inf
     xp, zp = q[plate_index], q[plate_index + 1]
     vxp, vzp = qd[plate_index], qd[plate_index + 1]
-    for i in range(n):
+    for i in range(node_index.size):
         j = node_index[i]
-        x = x_ref[i] + q[j]
-        un = q[j + 1] - zp
-        vn = qd[j + 1] - vzp
+        rel = x_ref[i] + q[j] - xp
+        un, vn = q[j + 1] - zp, qd[j + 1] - vzp
         lowest = min(lowest, un)
         pressure = _contact_pressure(un, vn, kc, w, hc, _max, _min)
+        # the node's compressive force, as the connector sees it: contact plus a pressed bond
+        squeeze = 0.0 if broken[i] else scale[i] * k_n * max(-un, 0.0)
+        normal = area[i] * (pressure + squeeze)
+        # a bonded node's slider may be off by what its bond's scale may: push_step of its strength
+        floor = 0.0 if broken[i] else push_step * scale[i] * k_t * r * d_t * area[i]
+        kt = k_t * area[i]
+        sticks, moved = _slider(i, rel, normal, slider, slider_pushed, mu, kt, push_step, floor)
+        flags = SLIDE if moved else 0
         if not broken[i]:
-            ut = x - xp - anchor[i]
-            healthy = _preload_factor(p_max[i], p_star) * rate[i]  # phi * R
-            d_shear = d_t * (1.0 + mu * pressure / (max(healthy, 1e-12) * tau))
-            a_n, a_t = max(un, 0.0) / d_c, ut / d_shear
-            lam = np.sqrt(a_n * a_n + a_t * a_t)
-            if lam >= 1.0:
-                broken[i] = True
-                push[n_push] = i
-                kind[n_push] = BREAK
-                n_push += 1
-                continue
-            n_bonded += 1
-            lam_max = max(lam_max, min(lam / r, 1.0))
-            p_max[i] = max(p_max[i], pressure)
-            # rate of the mixed-mode opening, in units of the normal critical opening per second
-            vt = qd[j] - vxp
-            if lam > 0.0:
-                v_mixed = d_c * (a_n * vn / d_c + a_t * vt / d_shear) / lam
-            else:
-                v_mixed = max(vn, 0.0)
-            opening_rate[i] += (v_mixed - opening_rate[i]) * min(h / RATE_FILTER, 1.0)
-            if lam > LOADED * r and opening_rate[i] > 0.0:
-                rate[i] = max(rate[i], 1.0 + (opening_rate[i] / v_star) ** n_rate)
-            opening_max[i] = max(opening_max[i], lam)
-            healthy = _preload_factor(p_max[i], p_star) * rate[i]
-            target = healthy
-            if opening_max[i] > r:  # softening branch: secant stiffness of the bilinear law
-                target *= r * (1.0 - opening_max[i]) / (opening_max[i] * (1.0 - r))
-            # push once the traction would be off by push_step of the bond's strength
-            if abs(target - scale[i]) * max(lam / r, 1.0) > push_step * healthy:
-                scale[i] = target
-                push[n_push] = i
-                kind[n_push] = SCALE
-                n_push += 1
-        elif pressure > p_rebond:
+            history = (p_max, rate, scale, opening_rate, opening_max)
+            ut, vt = rel - anchor[i], qd[j] - vxp
+            change, load = _bond(i, ut, un, vt, vn, pressure, h, law, broken, history)
+            flags |= change
+            if load >= 0.0:
+                n_bonded += 1
+                lam_max = max(lam_max, load)
+        elif pressure > p_rebond and sticks:
             broken[i] = False
-            anchor[i] = x - xp
+            anchor[i] = rel
             p_max[i] = pressure
             rate[i] = 1.0
             opening_rate[i] = 0.0
             opening_max[i] = 0.0
             scale[i] = _preload_factor(pressure, p_star)
-            push[n_push] = i
-            kind[n_push] = REBOND
-            n_push += 1
+            flags |= REBOND
             n_bonded += 1
+        if flags:
+            if flags & SLIDE:
+                slider_pushed[i] = slider[i]
+            push[n_push] = i
+            kind[n_push] = flags
+            n_push += 1
     return n_push, n_bonded, lowest, lam_max
 
 
@@ -317,17 +382,19 @@ def idle_changes(
 def kernel_law(law: BondLaw, push_step: float = PUSH_STEP) -> tuple[float, ...]:
     """The constants :func:`step` needs, in its order (area-independent)."""
     return (
+        # the bond's (:func:`_bond`), then the contact's and the slider's
         law.critical_opening,
         law.shear_opening,
-        law.shear_strength,
         law.elastic_fraction,
+        law.rate_exponent,
+        law.rate_speed,
+        law.preload_pressure,
+        push_step,
         law.friction,
         law.contact_stiffness,
         law.contact_smoothing,
         law.hunt_crossley,
-        law.preload_pressure,
         law.rebond_pressure,
-        law.rate_exponent,
-        law.rate_speed,
-        push_step,
+        law.stiffness,
+        law.shear_stiffness,  # the slider's k_t (:func:`_slider`): K_t r d_t = tau
     )

@@ -1,9 +1,11 @@
 """The slip test `ftfof identify` runs and what the bond law says of its estimate: the friction
-and adhesion a preset implies (:func:`truth`), and the preset an estimate gives
-(:func:`identified_preset`)."""
+and adhesion a preset implies (:func:`truth`), the rate law two drag speeds give
+(:func:`rate_law`), and the preset an estimate gives (:func:`identified_preset`)."""
 
 from __future__ import annotations
 
+import math
+from dataclasses import dataclass
 from typing import Any
 
 import ftfof.config as config
@@ -14,9 +16,17 @@ from ftfof.sim.bonds import BondLaw
 from ftfof.sim.slip import SlipProtocol, adhesion_truth, drag, slip_test, strength_for
 from ftfof.sim.spec import Bench
 
-# the slip test of `ftfof slip-test` and `ftfof identify --simulate`
+# the slip test of `ftfof slip-test` and `ftfof identify --simulate`: a drag stage's stiff drive
+# in the pad's plane, slow enough that the bonds shear at the drag speed from its ramp on; the
+# loads press (0 up to the preload): a pulled pad presses no node, so its friction is nil, not
+# mu F_n < 0 (docs/decisions/0027)
 PROTOCOL = SlipProtocol(
-    loads=(-1.0, 0.0, 1.0, 2.0, 3.0, 4.0), speed=0.01, drag=0.008, ankle_stiffness=50.0
+    loads=(0.0, 1.0, 2.0, 3.0, 4.0, 5.0),
+    speed=0.001,
+    drag=0.0005,
+    ankle_stiffness=50.0,
+    drive_stiffness=2.0e7,
+    drive_height=1.0e-3,
 )
 
 
@@ -25,9 +35,42 @@ def simulated_log(on: Bench, protocol: SlipProtocol = PROTOCOL) -> SlipLog:
     return slip_test(on.spec("slip", 0, drag(protocol.speed, protocol.drag)), protocol)
 
 
-def truth(law: BondLaw, robot: config.Robot) -> Estimate:
-    """mu and F_adh per pad the preset's bond ``law`` implies (:func:`adhesion_truth`)."""
-    return Estimate(law.friction, adhesion_truth(law, robot.pre_pressure, robot.pad_area))
+def truth(law: BondLaw, robot: config.Robot, speed: float = PROTOCOL.speed) -> Estimate:
+    """mu and F_adh(v) per pad the preset's bond ``law`` implies at drag ``speed``
+    (:func:`adhesion_truth`)."""
+    return Estimate(law.friction, adhesion_truth(law, robot.pre_pressure, robot.pad_area, speed))
+
+
+def quasi_static(law: BondLaw, adhesion: float, speed: float) -> float:
+    """F_adh,0 of a pad that held ``adhesion`` dragged at ``speed``: F_adh(v) / R(v), R from the
+    law's rate exponent and speed (the preset's, or :func:`rate_law`'s)."""
+    return adhesion / law.drag_rate_factor(speed)
+
+
+@dataclass(frozen=True)
+class RateLaw:
+    exponent: float  # n
+    speed: float  # v*, m/s of normal opening
+
+
+def rate_law(law: BondLaw, adhesion_0: float, drags: dict[float, float]) -> RateLaw:
+    """n and v* of R = 1 + (v / v*)^n from F_adh at two drag speeds, F_adh,0 known.
+
+    Each speed gives R_i - 1 = F_adh(v_i) / F_adh,0 - 1 = (c v_i / v*)^n, with c = d_n / d_t
+    the law's ratio of normal to shear opening (a drag at v opens the bonds at c v in the units
+    of v*, :meth:`BondLaw.drag_rate_factor`). Two of them: n = ln((R_1 - 1) / (R_2 - 1)) /
+    ln(v_1 / v_2), then v* = c v_1 / (R_1 - 1)^(1/n). Assumed known: F_adh,0 (the preset's tau,
+    from the pull-off calibration and k, or a quasi-static test) and c (the preset's k and
+    G_II / G); a third speed would free F_adh,0 too."""
+    if len(drags) != 2:
+        raise ValueError(f"the rate law needs two drag speeds, got {sorted(drags)}")
+    (v1, f1), (v2, f2) = sorted(drags.items())
+    g1, g2 = f1 / adhesion_0 - 1.0, f2 / adhesion_0 - 1.0
+    if not 0.0 < g1 < g2:
+        raise ValueError(f"F_adh must rise with the speed above F_adh,0 = {adhesion_0:.3f} N")
+    n = math.log(g2 / g1) / math.log(v2 / v1)
+    c = law.critical_opening / law.shear_opening
+    return RateLaw(n, c * v1 / g1 ** (1.0 / n))
 
 
 def identified_preset(
@@ -39,7 +82,7 @@ def identified_preset(
     pull_off: float | None = None,
 ) -> dict[str, Any]:
     """``surface``'s preset with the identified friction and the shear strength tau_max that
-    gives the identified adhesion at the robot's preload (:func:`strength_for`,
-    :func:`ftfof.identify.fit.preset_block`)."""
-    tau = strength_for(law, robot.pre_pressure, robot.pad_area, est.mu, est.adhesion)
+    gives the identified quasi-static adhesion ``est.adhesion`` (F_adh,0) at the robot's preload
+    (:func:`strength_for`, :func:`ftfof.identify.fit.preset_block`)."""
+    tau = strength_for(law, robot.pre_pressure, robot.pad_area, est.adhesion)
     return preset_block(surface, source, est.mu, tau, pull_off)

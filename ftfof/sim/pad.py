@@ -6,7 +6,8 @@
   (:mod:`ftfof.sim.foot`: the grip's clamp or the plate's backing);
 - one cohesive bond connector per film node (law in :mod:`ftfof.sim.bonds`), all sharing one
   symbolic user function; their state lives in the connector parameters (stiffness =
-  [K_t A, K A, Kc A], damping = [broken, phi * R, 0], offset = [anchor, 0, 0]).
+  [K_t A, K A, Kc A], damping = [broken, phi * R * (1 - D), 0], offset = [bond anchor, 0,
+  friction slider's anchor]; a 2D connector has no use for the third slots).
 """
 
 from __future__ import annotations
@@ -217,7 +218,7 @@ def add_bonds(
                 markerNumbers=[plate_marker, mbs.AddMarker(MarkerNodePosition(nodeNumber=node))],
                 stiffness=bond_stiffness(law, float(area[i])),
                 damping=[0.0, phi0, 0.0],
-                offset=[x_ref[i], 0.0, 0.0],
+                offset=[x_ref[i], 0.0, x_ref[i]],
             )
         )
         connectors.append(obj)
@@ -237,26 +238,31 @@ def bond_stiffness(law: BondLaw, area: float) -> list[float]:
 
 def _bond_force(law: BondLaw) -> Any:
     """The bond connector's force law (:mod:`ftfof.sim.bonds`): the surface's friction and
-    contact constants are baked in; the bond's state comes in through the connector's
-    parameters."""
-    w, hc, mu, vf = law.contact_smoothing, law.hunt_crossley, law.friction, law.friction_speed
+    contact constants are baked in; the bond's and the slider's state come in through the
+    connector's parameters. Exudyn's u is the markers' relative position less the offset, so the
+    film's x on the plate is u[0] + offset[0], and the slider's stretch that less offset[2]."""
+    w, hc, mu = law.contact_smoothing, law.hunt_crossley, law.friction
     none = Real(0.0)
 
     def bond_force(mbs, t, itemNumber, u, v, k, d, offset):
-        # bonded (d[0] = 0): s (K_t A u_t, K A u_n) minus the contact; broken (d[0] = 1): the
-        # contact and its friction. Exudyn re-evaluates a subexpression wherever it is used, so
-        # each branch computes only what its case needs: the same numbers as the one formula
-        # (1 - d[0]) s K A u - contact, d[0] mu contact tanh(v / v_f), whose other terms are 0
+        # bonded (d[0] = 0): s (K_t A u_t, K A u_n), minus the contact when touching; broken
+        # (d[0] = 1): the contact alone. Either way, touching, the slider's friction, clipped at
+        # mu times the node's compressive force (a pressed bond's spring included). Exudyn
+        # re-evaluates a subexpression wherever it is used, so each branch computes only what
+        # its case needs
         touching = u[1] < none  # the contact pressure is exactly 0 otherwise
         contact = contact_pressure(u[1], v[1], k[2], w, hc, esym.max, esym.min)
         held = d[1] * k[1] * u[1]
-        fn = esym.IfThenElse(
-            d[0],
-            esym.IfThenElse(touching, -contact, none),
-            esym.IfThenElse(touching, held - contact, held),
+        pressed = esym.IfThenElse(d[0], contact, contact - held)
+        limit = mu * pressed
+        stretch = k[0] * (u[0] + offset[0] - offset[2])  # the slider is as stiff as the bond
+        friction = esym.max(esym.min(stretch, limit), -limit)
+        fn = esym.IfThenElse(touching, -pressed, esym.IfThenElse(d[0], none, held))
+        ft = esym.IfThenElse(
+            touching,
+            esym.IfThenElse(d[0], friction, d[1] * k[0] * u[0] + friction),
+            esym.IfThenElse(d[0], none, d[1] * k[0] * u[0]),
         )
-        friction = mu * contact * esym.tanh(v[0] / vf)
-        ft = esym.IfThenElse(d[0], esym.IfThenElse(touching, friction, none), d[1] * k[0] * u[0])
         return [ft, fn, 0]
 
     return bond_force

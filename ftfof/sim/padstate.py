@@ -62,7 +62,7 @@ class PadTracker:
         self.plate_index = int(mbs.GetNodeODE2Index(parts.plate_node))
         self.state = bonds.BondState.bonded(parts.x_ref, initial_pressure, law)
         self.kernel_law = bonds.kernel_law(law)
-        self.push = np.zeros(n * 2, dtype=np.int64)
+        self.push = np.zeros(n, dtype=np.int64)
         self.kind = np.zeros_like(self.push)
         self.idle_bonds = idle_bonds
         self.idle = np.zeros(n, dtype=bool)
@@ -82,13 +82,7 @@ class PadTracker:
             self.plate_index,
             parts.x_ref,
             parts.area,
-            st.anchor,
-            st.broken,
-            st.p_max,
-            st.rate,
-            st.scale,
-            st.opening_rate,
-            st.opening_max,
+            *st.arrays(),
             h,
             self.kernel_law,
             self.push,
@@ -110,13 +104,12 @@ class PadTracker:
         for j in range(n_push):
             i, kind = int(self.push[j]), int(self.kind[j])
             obj = self.parts.bonds[i]
-            if kind == bonds.BREAK:
-                setp(obj, "damping", [1.0, float(st.scale[i]), 0.0])
+            if kind & (bonds.REBOND | bonds.SLIDE):
+                setp(obj, "offset", [float(st.anchor[i]), 0.0, float(st.slider_pushed[i])])
+            if kind & (bonds.BREAK | bonds.SCALE | bonds.REBOND):
+                setp(obj, "damping", [float(st.broken[i]), float(st.scale[i]), 0.0])
+            if kind & bonds.BREAK:
                 self.last_break = t
-            else:
-                if kind == bonds.REBOND:
-                    setp(obj, "offset", [float(st.anchor[i]), 0.0, 0.0])
-                setp(obj, "damping", [0.0, float(st.scale[i]), 0.0])
 
     def _idle(self, q: Array, qd: Array, h: float) -> None:
         """Switch off the connectors of broken bonds clear of the plate, on again near it."""

@@ -199,13 +199,22 @@ class PreStep:
 
 
 def press_control(
-    p: Platform, plate_index: int, q: Array, qd: Array, h: float, target: float, integral: float
+    p: Platform,
+    plate_index: int,
+    q: Array,
+    qd: Array,
+    h: float,
+    target: float,
+    integral: float,
+    feedforward: bool = True,
 ) -> float:
     """Set the press depth so the sensor reads ``target`` (N, compression positive) by integral
-    action on its error; returns the updated integral (the caller keeps it between steps)."""
+    action on its error, with the depth that presses ``target`` through the foot as feedforward
+    unless something else presses it (the slip test's sled); returns the updated integral (the
+    caller keeps it between steps)."""
     sensor = p.spec.platform.sensor
     compression = -(sensor.stiffness * q[plate_index + 1] + sensor.damping * qd[plate_index + 1])
     k = p.series_stiffness
     integral += (target - compression) / k * min(h / PRESS_TIME_CONSTANT, 1.0)
-    p.press_depth.SetValue(target / k + integral)
+    p.press_depth.SetValue((target / k if feedforward else 0.0) + integral)
     return integral

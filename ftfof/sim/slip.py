@@ -1,20 +1,25 @@
 """A slip test on the platform: press the pad, set a normal load, drag it along the plate.
 
-Per normal load (N, compression positive, a pull negative) one fresh pad: settle, press it to
-the preload a (the acquisition's press loop), move the load to its value over ``press_hold``,
-then drag the foot along +x at a constant speed while the press loop holds the load. The bonds
-shear off at the law's allowance |tau| <= s tau_max + mu p (:mod:`ftfof.sim.bonds`), so the peak
-tangential force of each load lies on F_t = mu (F_n + F_adh), which
-:mod:`ftfof.identify` estimates. The sensor's Fx and Fz are recorded at its rate.
+Per normal load (N, compression positive) one fresh pad: settle, press it to the preload a,
+move the load to its value over ``press_hold``, then drag the foot along +x at a constant speed
+while the load holds. The load presses as a tribometer's sled does, spread over the pad by
+area (:func:`_sled`), and the press loop keeps the foot's own press at nil; pressed through the
+foot's grip, the pad would be pressed and preloaded at its heel alone and lift elsewhere. The bonds
+shear off at their own strength and the friction sliders beside them hold mu times the load
+(:mod:`ftfof.sim.bonds`), so the peak tangential force of each load lies on
+F_t = mu F_n + F_adh(v) (:func:`adhesion_truth`), which :mod:`ftfof.identify` estimates. The
+sensor's Fx and Fz are recorded at its rate.
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, replace
+from typing import Any
 
 import exudyn as exu
 import numpy as np
+from exudyn.advancedUtilities import CreateSymbolicUserFunction
+from exudyn.itemInterface import LoadForceVector, MarkerNodePosition
 from numpy.typing import NDArray
 
 from ftfof.identify.log import SlipLog
@@ -29,6 +34,7 @@ from ftfof.trajectory.piecewise import PiecewiseQuintic
 
 Array = NDArray[np.float64]
 RAMP = 0.02  # s to reach the drag speed
+esym = exu.symbolic
 
 
 @dataclass(frozen=True)
@@ -40,6 +46,9 @@ class SlipProtocol:
     drag: float  # commanded drag distance, m
     ankle_stiffness: float  # N m/rad: the test fixture locks the passive ankle, which would
     # otherwise turn the drag into a peel about the heel
+    drive_stiffness: float  # N/m along the drag: the leg and its mount, stiff as a drag stage's
+    drive_height: float  # m above the pad where the drive holds the foot (its ankle height): a
+    # lap-shear fixture pulls in the pad's plane, so the drag puts no moment on the pad
 
 
 def drag(speed: float, distance: float) -> PiecewiseQuintic:
@@ -56,8 +65,10 @@ def drag(speed: float, distance: float) -> PiecewiseQuintic:
 class _SlipStep:
     """Pre-step of one slip run: the pad's bonds and the press loop on the load schedule."""
 
-    def __init__(self, p: Platform, solver: exu.MainSolverImplicitSecondOrder, load: float):
-        self.p, self.solver, self.load = p, solver, load
+    def __init__(
+        self, p: Platform, solver: exu.MainSolverImplicitSecondOrder, load: float, sled: Any
+    ):
+        self.p, self.solver, self.load, self.sled = p, solver, load, sled
         self.data = p.mbs.systemData
         s = p.spec
         self.pad = PadTracker(
@@ -81,14 +92,37 @@ class _SlipStep:
         qd = self.data.GetODE2Coordinates_t(copy=False)
         h = self.solver.it.currentStepSize
         self.pad.update(q, qd, h, t)
+        target = self.target(t)
+        self.sled.SetValue(target)
         self.integral = press_control(
-            self.p, self.pad.plate_index, q, qd, h, self.target(t), self.integral
+            self.p, self.pad.plate_index, q, qd, h, target, self.integral, feedforward=False
         )
         return bool(np.isfinite(q).all())
 
 
 def _min_jerk(u: float) -> float:
     return u * u * u * (10 - 15 * u + 6 * u * u)
+
+
+def _sled(p: Platform) -> Any:
+    """A normal load on every film node in proportion to its pad area, their total a named
+    symbolic variable (N, compression positive) the pre-step sets: one value per step, however
+    many nodes. Re-assembles the system."""
+    total = esym.Real("sled", 0.0)
+
+    def share(mbs, t, loadVector):
+        return [0, -total * loadVector[1], 0]
+
+    law = CreateSymbolicUserFunction(
+        p.mbs, share, "loadVectorUserFunction", itemTypeName="LoadForceVector"
+    )
+    for node, area in zip(p.film_nodes, p.area / p.area.sum(), strict=True):
+        marker = p.mbs.AddMarker(MarkerNodePosition(nodeNumber=node))
+        load = p.mbs.AddLoad(LoadForceVector(markerNumber=marker, loadVector=[0.0, area, 0.0]))
+        p.mbs.SetLoadParameter(load, "loadVectorUserFunction", law)
+    p.keep.extend([law, total])
+    p.mbs.Assemble()
+    return total
 
 
 def slip_run(spec: SampleSpec, load: float) -> tuple[Array, Array, Array]:
@@ -100,7 +134,7 @@ def slip_run(spec: SampleSpec, load: float) -> tuple[Array, Array, Array]:
     law = BondLaw.from_surface(spec.surface, spec.solver.contact_smoothing)
     platform = build(spec, law)
     solver = exu.MainSolverImplicitSecondOrder()
-    platform.mbs.SetPreStepUserFunction(_SlipStep(platform, solver, load))
+    platform.mbs.SetPreStepUserFunction(_SlipStep(platform, solver, load, _sled(platform)))
     sensor = spec.platform.sensor
     solver.SolveSystem(
         platform.mbs,
@@ -122,16 +156,26 @@ def slip_run(spec: SampleSpec, load: float) -> tuple[Array, Array, Array]:
     return t - spec.trajectory_start, measured("Fx"), measured("Fz")
 
 
-def slip_test(spec: SampleSpec, protocol: SlipProtocol) -> SlipLog:
+def slip_test(
+    spec: SampleSpec, protocol: SlipProtocol, trajectory: PiecewiseQuintic | None = None
+) -> SlipLog:
     """Every load of ``protocol`` on a fresh pad of ``spec`` (its trajectory is replaced by the
-    drag, its landing hold dropped); the runs one after the other on one time axis."""
-    traj = drag(protocol.speed, protocol.drag)
+    drag, or by ``trajectory``: a hold, say; its landing hold dropped); the runs one after the
+    other on one time axis."""
+    traj = drag(protocol.speed, protocol.drag) if trajectory is None else trajectory
     platform = spec.platform.model_copy(
         update={"protocol": spec.platform.protocol.model_copy(update={"landing_hold": 0.0})}
     )
     m = spec.mechanics
-    foot = m.foot.model_copy(update={"ankle_stiffness": protocol.ankle_stiffness})
-    mechanics = m.model_copy(update={"foot": foot})
+    foot = m.foot.model_copy(
+        update={"ankle_stiffness": protocol.ankle_stiffness, "ankle_height": protocol.drive_height}
+    )
+    stiff = protocol.drive_stiffness
+    leg = m.leg_stiffness.model_copy(update={"x": stiff})
+    body = m.body.model_copy(
+        update={"mount_stiffness": m.body.mount_stiffness.model_copy(update={"x": stiff})}
+    )
+    mechanics = m.model_copy(update={"foot": foot, "leg_stiffness": leg, "body": body})
     parts: list[tuple[Array, Array, Array]] = []
     for i, load in enumerate(protocol.loads):
         run = replace(
@@ -152,15 +196,17 @@ def slip_test(spec: SampleSpec, protocol: SlipProtocol) -> SlipLog:
     )
 
 
-def adhesion_truth(law: BondLaw, preload: float, area: float) -> float:
-    """F_adh per pad the bond law implies: at slip the pad holds sum_i (s tau_max + mu p_i) A_i
-    = s tau_max A + mu F_n, i.e. mu (F_n + F_adh) with F_adh = s tau_max A / mu, s the preload
-    factor of the preload spread over the pad (the reset's bond) with no rate or damage."""
-    s = float(law.preload_factor(preload / area))
-    return s * law.shear_strength * area / law.friction if law.friction > 0 else math.inf
+def adhesion_truth(law: BondLaw, preload: float, area: float, speed: float = 0.0) -> float:
+    """F_adh(v) = R(v) F_adh,0 per pad, N, of a slip test dragged at ``speed``: at slip the pad's
+    bonds hold their strength whatever the load and friction adds mu F_n, F_t = mu F_n + F_adh.
+    F_adh,0 = phi tau_max A, phi the preload factor of the preload spread over the pad (the
+    reset's bond) with no damage; R(v) the rate factor of a bond sheared at the drag speed
+    (:meth:`BondLaw.drag_rate_factor`; 1 at ``speed`` 0, the quasi-static F_adh,0)."""
+    phi = float(law.preload_factor(preload / area))
+    return law.drag_rate_factor(speed) * phi * law.shear_strength * area
 
 
-def strength_for(law: BondLaw, preload: float, area: float, mu: float, adhesion: float) -> float:
-    """The shear strength tau_max whose allowance gives ``adhesion`` per pad at ``preload``
-    (:func:`adhesion_truth` solved for tau_max)."""
-    return mu * adhesion / (float(law.preload_factor(preload / area)) * area)
+def strength_for(law: BondLaw, preload: float, area: float, adhesion: float) -> float:
+    """The shear strength tau_max whose quasi-static F_adh,0 per pad at ``preload`` is
+    ``adhesion`` (:func:`adhesion_truth` at speed 0, solved for tau_max)."""
+    return adhesion / (float(law.preload_factor(preload / area)) * area)

@@ -96,7 +96,7 @@ class Film:
         self.area = np.full(n, 1e-4)
 
     def step(self, state: BondState, law: BondLaw, h: float = 5e-4):
-        push = np.zeros(2 * len(self.x), dtype=np.int64)
+        push = np.zeros(len(self.x), dtype=np.int64)
         kind = np.zeros_like(push)
         out = bonds.step(
             self.q,
@@ -105,13 +105,7 @@ class Film:
             0,
             self.x,
             self.area,
-            state.anchor,
-            state.broken,
-            state.p_max,
-            state.rate,
-            state.scale,
-            state.opening_rate,
-            state.opening_max,
+            *state.arrays(),
             h,
             bonds.kernel_law(law),
             push,
@@ -152,21 +146,85 @@ def test_each_mode_releases_its_own_fracture_energy(law, params):
     assert 0.5 * tau * law.shear_opening == pytest.approx(G_II)
 
 
-def test_pressure_on_a_bonded_node_adds_friction_to_its_shear_allowance(law):
-    """|tau| <= s tau_max + mu p: a slip that breaks a free bond holds under compression."""
-    slip = 1.1 * law.shear_opening
-    free, pressed = Film(1), Film(1)
-    for film in (free, pressed):
-        film.q[film.node_index[0]] = slip
-    pressed.q[pressed.node_index[0] + 1] = -20 * law.contact_smoothing  # pressed in
-    p = float(law.contact_pressure(np.array([-20 * law.contact_smoothing]), np.zeros(1))[0])
-    state = BondState.bonded(free.x, 1e6, law)
-    assert law.friction * p > 0.1 * state.scale[0] * law.shear_strength
-    _, pushes = free.step(state, law)
-    assert pushes == [(0, bonds.BREAK)]
-    state = BondState.bonded(pressed.x, 1e6, law)
-    _, pushes = pressed.step(state, law)
-    assert not state.broken[0]
+def _pressed(law: BondLaw, depth: float = 2.0) -> tuple[float, float]:
+    """A node pressed ``depth`` ramp widths in: its opening and its contact pressure."""
+    un = -depth * law.contact_smoothing
+    return un, float(law.contact_pressure(np.array([un]), np.zeros(1))[0])
+
+
+def test_a_pressed_bond_breaks_on_its_own_opening_with_friction_beside_it(law):
+    """The shear allowance takes no friction: a slip past d_t breaks a pressed bond as it does
+    a free one, and the node's slider then holds it at mu N from where it slid."""
+    film = Film(1)
+    un, p = _pressed(law)
+    film.q[film.node_index[0] + 1] = un
+    film.q[film.node_index[0]] = 1.01 * law.shear_opening
+    state = BondState.bonded(film.x, 1e6, law)
+    normal = film.area[0] * (p + state.scale[0] * law.stiffness * -un)
+    _, pushes = film.step(state, law)
+    assert pushes == [(0, bonds.BREAK | bonds.SLIDE)]
+    stretch = film.x[0] + film.q[film.node_index[0]] - state.slider[0]
+    kt = law.shear_stiffness * film.area[0]
+    assert kt * stretch == pytest.approx(law.friction * normal, rel=1e-9)
+    assert state.slider_pushed[0] == state.slider[0]
+
+
+def test_the_slider_sticks_below_mu_n_without_creep_and_slides_at_it(law):
+    """Return mapping: a node moved less than mu N / k_t keeps its anchor, however often it is
+    stepped; moved further, the anchor trails it by exactly that much."""
+    film = Film(1)
+    un, p = _pressed(law, 0.3)
+    assert 0 < p < law.rebond_pressure  # pressed too lightly to re-bond
+    film.q[film.node_index[0] + 1] = un
+    state = BondState.bonded(film.x, 1e6, law)
+    state.broken[:] = True  # friction alone
+    reach = law.friction * p / law.shear_stiffness  # the slider's elastic reach, m
+    film.q[film.node_index[0]] = 0.9 * reach
+    for _ in range(50):
+        film.step(state, law)
+        assert state.slider[0] == film.x[0]
+    film.q[film.node_index[0]] = 3 * reach
+    film.step(state, law)
+    assert state.slider[0] == pytest.approx(film.x[0] + 2 * reach, rel=1e-9)
+
+
+def test_a_broken_node_rebonds_only_while_its_slider_sticks(law):
+    film = Film(1)
+    un, p = _pressed(law)
+    assert p > law.rebond_pressure
+    film.q[film.node_index[0] + 1] = un
+    state = BondState.bonded(film.x, 5000.0, law)
+    state.broken[:] = True
+    film.q[film.node_index[0]] = 1e-3  # slid 1 mm since the last step: sliding
+    _, pushes = film.step(state, law)
+    assert state.broken[0] and pushes == [(0, bonds.SLIDE)]
+    _, pushes = film.step(state, law)  # held where it is: it sticks, and re-bonds
+    assert not state.broken[0] and pushes == [(0, bonds.REBOND)]
+
+
+def test_the_rate_factor_follows_the_current_opening_rate_not_its_peak(law):
+    """A bond opened fast and then held has R back at 1 (R - 1 decays as exp(-n t / filter))."""
+    film = Film(1)
+    state = BondState.bonded(film.x, 1e6, law)
+    film.q[film.node_index[0] + 1] = 0.5 * law.elastic_fraction * law.critical_opening
+    film.qd[film.node_index[0] + 1] = 0.5
+    for _ in range(100):
+        film.step(state, law)
+    assert state.rate[0] > 1.5
+    film.qd[film.node_index[0] + 1] = 0.0
+    for _ in range(int(30 * bonds.RATE_FILTER / 5e-4)):
+        film.step(state, law)
+    assert 1.0 <= state.rate[0] < 1.001
+    assert state.scale[0] == pytest.approx(float(law.preload_factor(1e6)), rel=bonds.PUSH_STEP)
+
+
+def test_a_drag_rate_factor_reads_the_shear_opening_in_normal_units(law):
+    v = 0.01
+    opening = v * law.critical_opening / law.shear_opening
+    assert law.drag_rate_factor(v) == pytest.approx(
+        1 + (opening / law.rate_speed) ** law.rate_exponent
+    )
+    assert law.drag_rate_factor(0.0) == 1.0
 
 
 def test_shear_rate_raises_the_scale_like_opening_rate(law):
@@ -186,7 +244,8 @@ def test_broken_node_pressed_hard_rebonds_where_it_lies(law):
     film = Film(2)
     state = BondState.bonded(film.x, 5000.0, law)
     state.broken[:] = True
-    film.q[film.node_index[0]] = 0.003  # moved 3 mm along x
+    film.q[film.node_index[0]] = 0.003  # moved 3 mm along x, where its slider came to rest
+    state.slider[0] = state.slider_pushed[0] = film.x[0] + 0.003
     film.q[film.node_index[0] + 1] = -3 * law.contact_smoothing  # pressed in
     _, pushes = film.step(state, law)
     assert pushes == [(0, bonds.REBOND)]

@@ -6,7 +6,7 @@ import pytest
 
 from ftfof.identify.estimate import Estimate
 from ftfof.sim.bonds import BondLaw
-from ftfof.sim.identified import identified_preset, truth
+from ftfof.sim.identified import PROTOCOL, identified_preset, rate_law, truth
 from ftfof.sim.slip import adhesion_truth
 
 
@@ -19,7 +19,13 @@ def test_the_truth_is_the_preset_friction_and_the_laws_adhesion(params):
     law = _law(surface, params)
     out = truth(law, robot)
     assert out.mu == surface.friction
-    assert out.adhesion == adhesion_truth(law, robot.pre_pressure, robot.pad_area) > 0
+    static = adhesion_truth(law, robot.pre_pressure, robot.pad_area)
+    assert static == pytest.approx(
+        float(law.preload_factor(robot.pre_pressure / robot.pad_area))
+        * law.shear_strength
+        * robot.pad_area
+    )
+    assert out.adhesion == law.drag_rate_factor(PROTOCOL.speed) * static > static
 
 
 @pytest.mark.parametrize("pull_off", [None, 4.0e4])
@@ -30,6 +36,17 @@ def test_an_identified_preset_gives_back_the_estimate(params, pull_off):
     assert block["friction"] == 0.4568 and "log.csv" in block["note"]
     if pull_off is not None:
         assert block["strength"] == pull_off
-    again = truth(_law(surface.model_copy(update=block), params), robot)
+    again = truth(_law(surface.model_copy(update=block), params), robot, speed=0.0)
     assert again.mu == pytest.approx(est.mu, rel=1e-3)
-    assert again.adhesion == pytest.approx(est.adhesion, rel=1e-3)
+    assert again.adhesion == pytest.approx(est.adhesion, rel=1e-3)  # F_adh,0
+
+
+def test_two_drag_speeds_give_back_the_rate_law(params):
+    robot, law = params.selected_robot, _law(params.surfaces["glass"], params)
+    static = adhesion_truth(law, robot.pre_pressure, robot.pad_area)
+    drags = {v: adhesion_truth(law, robot.pre_pressure, robot.pad_area, v) for v in (1e-3, 4e-3)}
+    got = rate_law(law, static, drags)
+    assert got.exponent == pytest.approx(law.rate_exponent, rel=1e-9)
+    assert got.speed == pytest.approx(law.rate_speed, rel=1e-9)
+    with pytest.raises(ValueError, match="rise with the speed"):
+        rate_law(law, static, {1e-3: static, 4e-3: 2 * static})

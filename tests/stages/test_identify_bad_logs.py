@@ -63,16 +63,49 @@ def test_a_good_slip_log_is_identified(tmp_path):
     assert summary["mu_estimate"] == out["mu"]["estimate"]
 
 
-@pytest.mark.integration
-def test_identify_simulate_writes_the_round_trip_report(tmp_path):
+def _identify(tmp_path, *extra: str) -> dict:
     report = tmp_path / "identify.json"
-    args = ["identify", "--surface", "glass", "--simulate", "--params", str(ROOT / "params.yaml")]
-    args += ["--report", str(report), "--folder", str(tmp_path / "identify")]
-    assert runner.invoke(app, args).exit_code == 0
-    out = json.loads(report.read_text())
-    assert out["mu"]["truth"] == 0.45  # glass's preset
+    args = ["identify", *extra, "--params", str(ROOT / "params.yaml"), "--report", str(report)]
+    result = runner.invoke(app, [*args, "--folder", str(tmp_path / "identify")])
+    assert result.exit_code == 0, result.output
+    return json.loads(report.read_text())
+
+
+@pytest.mark.integration
+@pytest.mark.parametrize("surface", ["glass", "acrylic", "painted_wall"])
+def test_identify_simulate_recovers_the_preset_within_5_percent(tmp_path, surface):
+    """The round trip of the contact law: mu, F_adh at the test's speed and F_adh,0."""
+    out = _identify(tmp_path, "--surface", surface, "--simulate")
+    for key in ("mu", "adhesion", "adhesion_0"):
+        assert out[key]["estimate"] == pytest.approx(out[key]["truth"], rel=0.05), key
+    assert out["adhesion"]["truth"] > out["adhesion_0"]["truth"]  # R(v) > 1
     assert set(out["adhesion"]) == {"estimate", "truth", "least_squares"}
     assert (tmp_path / "identify" / "convergence.png").stat().st_size > 0
+
+
+@pytest.mark.integration
+def test_two_drag_speeds_recover_the_rate_exponent(tmp_path):
+    out = _identify(tmp_path, "--surface", "glass", "--simulate", "--speeds", "0.0005,0.001")
+    law = out["rate_law"]
+    assert law["speeds"] == [0.0005, 0.001] and law["adhesion"][0] < law["adhesion"][1]
+    assert law["exponent"]["estimate"] == pytest.approx(law["exponent"]["truth"], rel=0.1)
+    # v* takes the error of F_adh 1 / n times over (docs/decisions/0027)
+    assert law["rate_speed"]["estimate"] == pytest.approx(law["rate_speed"]["truth"], rel=0.5)
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (["--speeds", "0.001,0.002"], "with --simulate"),
+        (["--simulate", "--speeds", "0.001"], "two distinct positive speeds"),
+        (["--simulate", "--speeds", "fast,slow"], "is not two numbers"),
+    ],
+)
+def test_bad_speeds_are_refused_before_anything_runs(tmp_path, extra, message):
+    args = ["identify", "--surface", "glass", *extra, "--params", str(ROOT / "params.yaml")]
+    result = runner.invoke(app, [*args, "--report", str(tmp_path / "identify.json")])
+    assert result.exit_code != 0 and message in result.output
+    assert not (tmp_path / "identify.json").exists()
 
 
 def test_slip_logs_are_imported_for_identify_and_bad_ones_refused(tmp_path):

@@ -28,6 +28,7 @@ Our reading of the paper, whose equations are images:
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -95,22 +96,24 @@ def estimate_pad(
     method: Literal["kalman", "least_squares"] = "kalman",
     prior: Estimate | None = None,
 ) -> Estimate:
-    """mu and F_adh of a slipping foot's pad from a window of its measured forces, through
-    F_t = mu (F_n + F_adh) (:mod:`ftfof.identify.estimate`). While it slides, the pad's friction
-    is at its limit whichever way it slides, so |f_t| is what that law sees. ``prior`` is where
-    the Kalman estimator starts (the pad parameters the controller assumed); least squares needs
-    none. The Kalman estimator updates on windows of 15 consecutive samples and needs f_n to vary
-    within each: over a slow ramp of f_n its first, nearly constant window can leave it on the
-    wrong branch of mu F_adh = const (a quarter of synthetic ramps ended more than 10 % off)."""
+    """mu and F_adh of a slipping foot's pad from a window of its measured forces, F_adh as the
+    controller's cone takes it: the shift of mu (F_n + F_adh). The estimators fit the slip law's
+    tangential form F_t = mu F_n + F_a (:mod:`ftfof.identify.estimate`), the same line, so
+    F_adh = F_a / mu. While it slides, the pad's friction is at its limit whichever way it
+    slides, so |f_t| is what that law sees. ``prior`` is where the Kalman estimator starts (the
+    pad parameters the controller assumed, in its form); least squares needs none."""
     fn = np.asarray(fn, dtype=float)
     ft = np.abs(np.asarray(ft, dtype=float))
     if method == "least_squares":
-        return least_squares(fn, ft)
-    if method != "kalman":
+        fit = least_squares(fn, ft)
+    elif method != "kalman":
         raise ValueError(f"unknown estimator {method!r}: kalman or least_squares")
-    if prior is None:
+    elif prior is None:
         raise ValueError("the Kalman estimator starts from a prior: the pad's assumed mu, F_adh")
-    return kalman(fn, ft, prior).final
+    else:
+        fit = kalman(fn, ft, Estimate(prior.mu, prior.mu * prior.adhesion)).final
+    shift = fit.adhesion / fit.mu if fit.mu != 0 else math.copysign(math.inf, fit.adhesion)
+    return Estimate(fit.mu, shift)
 
 
 def estimate_adhesion(fn: Array, ft: Array, mu: float) -> float:

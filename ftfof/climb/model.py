@@ -113,6 +113,16 @@ def robot_mass(robot: config.Robot) -> float:
     return robot.climber.trunk_mass + LEGS * (sum(leg_masses(robot)) + robot.platform.foot.mass)
 
 
+def fore_foot_demand(robot: config.Robot) -> float:
+    """The pull a fore stance foot holds while the other fore foot presses its landing, N:
+    a + m g h / L. On a wall the feet's normal forces sum to zero, so a fore landing's press a
+    pulls on its partner, and the trunk's weight m g, its hips h off the wall, tips the robot
+    about its hind feet L below (decision 0019)."""
+    assert robot.climber is not None
+    h = robot.leg.hip.z
+    return robot.pre_pressure + robot_mass(robot) * config.GRAVITY * h / robot.climber.hip_spacing
+
+
 def build(spec: ClimbSpec, chain: SagittalChain, gait: Gait, law: BondLaw) -> Climber:
     """Assemble the robot standing on the wall with every pad bonded (not yet solved)."""
     robot = spec.robot

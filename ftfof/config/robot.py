@@ -209,9 +209,9 @@ class FootMechanics(Strict):
     ankle_damping: NonNegativeFloat  # N m s/rad
     backing: Backing | None = None  # the plate foot's
     # the plate's rotation limits from flat, rad: toe down (negative), toe up; past them the
-    # ankle's moment rises ``ankle_stop_stiffness`` times faster
+    # ankle's stop adds ``ankle_stop_stiffness`` (N m/rad)
     ankle_range: tuple[float, float] | None = None
-    ankle_stop_stiffness: PositiveFloat = 100.0
+    ankle_stop_stiffness: PositiveFloat = 500.0
 
     @model_validator(mode="after")
     def _plate_parts(self) -> FootMechanics:
@@ -219,7 +219,7 @@ class FootMechanics(Strict):
             if self.backing is None or self.ankle_range is None:
                 raise ValueError("a plate foot needs foot.backing and foot.ankle_range")
             low, high = self.ankle_range
-            if not low < 0.0 < high:
+            if not low < 0.0 <= high:
                 raise ValueError(f"foot.ankle_range must hold 0 (flat): got [{low}, {high}]")
         return self
 

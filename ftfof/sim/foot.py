@@ -14,7 +14,10 @@ Two feet, chosen by ``foot.model``:
 
 The ankle is a rotational spring between the leg's last link and the foot. The plate's rests
 toe down in the air at the robot's droop angle (Robot.ankle_rest_angle) and stops at
-``foot.ankle_range``: past it the moment rises ``ankle_stop_stiffness`` times faster.
+``foot.ankle_range``: past it the stop adds ``ankle_stop_stiffness``. A stop at flat (the
+range's upper end 0) makes the ankle one-way: free to turn toe down, so the heel peels about the
+toe, and stiff at flat, so a press at the heel spreads over the whole pad instead of levering the
+toe up.
 """
 
 from __future__ import annotations
@@ -138,10 +141,10 @@ def ankle_law(mbs: Any, connector: Any, foot: FootMechanics, rest: float) -> Any
     """The ankle's moment on a coordinate spring over the foot's rotation (the platform's
     lumped leg, whose leg keeps its orientation); returns the law, which must outlive the
     solve."""
-    gain = foot.ankle_stop_stiffness
+    stop = Real(foot.ankle_stop_stiffness)
 
     def ankle(mbs, t, itemNumber, u, v, k, d, offset):
-        return k * (u - Real(rest)) + Real(gain) * k * _stop(u, foot) + d * v
+        return k * (u - Real(rest)) + stop * _stop(u, foot) + d * v
 
     return _set(mbs, connector, ankle, "springForceUserFunction")
 
@@ -149,11 +152,11 @@ def ankle_law(mbs: Any, connector: Any, foot: FootMechanics, rest: float) -> Any
 def ankle_joint_law(mbs: Any, connector: Any, foot: FootMechanics, rest: float) -> Any:
     """The same moment on a rigid-body spring-damper from the leg's last link to the foot
     (its translations: the diagonal springs of the connector); returns the law."""
-    gain = foot.ankle_stop_stiffness
+    stop = Real(foot.ankle_stop_stiffness)
 
     def ankle(mbs, t, itemNumber, u, rot, v, w, k, d, rotJ0, rotJ1, offset):
         turn = rot[2] - Real(rest)
-        moment = k[5, 5] * turn + Real(gain) * k[5, 5] * _stop(rot[2], foot) + d[5, 5] * w[2]
+        moment = k[5, 5] * turn + stop * _stop(rot[2], foot) + d[5, 5] * w[2]
         return [
             k[0, 0] * u[0] + d[0, 0] * v[0],
             k[1, 1] * u[1] + d[1, 1] * v[1],

@@ -122,16 +122,27 @@ def test_ftfof_calibrate_simulates_the_polynomial_and_the_cycloid_only(monkeypat
     monkeypatch.setattr(cal, "calibrate", fake_calibrate)
     calibration.fit_surface(params, "none", 4)
     assert seen == ["baseline:polynomial", "baseline:cycloidal"]
-    # G held above the film's cap by hand: the report says so beside the value
-    report = calibration.fit_surface(params, "none", 4, {"fracture_energy": 200.0})
+    # the grip foot's G held above its film's cap by hand: the report says so beside the value
+    report = calibration.fit_surface(_grip(params), "none", 4, {"fracture_energy": 200.0})
     assert report["active"] == {"fracture_energy": "fixed above the fracture-energy cap"}
+    assert report["foot"] == "grip"
+    # the plate backs its film: no cap
+    assert calibration.fit_surface(params, "none", 4, {"fracture_energy": 200.0})["active"] == {}
+
+
+def _grip(params):
+    """``params`` with the selected robot on the grip foot (the film's first grip_length clamped)."""
+    data = params.model_dump()
+    foot = data["robots"][data["robot"]]["platform"]["foot"]
+    foot.update(model="grip", backing=None, ankle_range=None)
+    return type(params).model_validate(data)
 
 
 def test_the_fit_report_names_the_films_cap_and_a_value_held_above_it(monkeypatch, params):
     from ftfof.sim import film
 
     monkeypatch.setattr(cal, "run_all", _model(TRUE["strength"], TRUE["fracture_energy"]))
-    robot = params.selected_robot
+    robot = _grip(params).selected_robot
     start = params.surfaces["acrylic"].model_copy(update={**START, "fracture_energy": 1e4})
     report = cal.surface_fit(
         robot,

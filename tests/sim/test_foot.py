@@ -129,5 +129,5 @@ def test_the_ankle_rests_at_its_angle_and_stops_at_its_range():
     # a torque that would turn a free spring 2 rad past the stop ends just past it
     for torque, stop in ((k * (high - rest + 2.0), high), (-k * (rest - low + 2.0), low)):
         angle = _ankle_angle(torque, foot, rest)
-        past = 2.0 / (1.0 + foot.ankle_stop_stiffness)
+        past = 2.0 * k / (k + foot.ankle_stop_stiffness)
         assert angle == pytest.approx(stop + math.copysign(past, stop), rel=1e-3)

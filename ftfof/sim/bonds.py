@@ -26,12 +26,10 @@ up to lambda = r, softens with the secant factor 1 - D = r (1 - lambda_max) / (l
 beyond, and breaks at lambda = 1, each mode having released its fracture energy (with G_II = G,
 G whatever the mixity: Kendall's peel needs one G). The bond breaks on its own opening; friction
 beside it holds mu N, so a sliding pad follows F_t = mu F_n + F_adh with F_adh = R phi tau A.
-A broken node re-bonds, anchored where it lies, when pressed above the re-bond pressure while
-its slider sticks.
+A broken node pressed above the re-bond pressure re-bonds where it lies while its slider sticks.
 
-:func:`step` is the per-time-step state machine the simulator's pre-step calls: it reads node
-states, updates the bond and slider states in place and lists the connectors whose parameters
-must be pushed. Compiled, it costs about a microsecond for 20 nodes.
+:func:`step`, the pre-step's compiled state machine, updates the bond and slider states in
+place and lists the connectors whose parameters must be pushed.
 """
 
 from __future__ import annotations
@@ -50,14 +48,13 @@ Array = NDArray[np.float64]
 
 # push flags, or-ed per node: the damping slots (broken, scale) and the offset slots (anchors)
 BREAK, SCALE, REBOND, SLIDE = 1, 2, 4, 8
-PUSH_STEP = 0.02  # push a scale once the traction would be off by this fraction of the strength
-# (and a friction anchor once the friction would be off by this fraction of mu N)
+PUSH_STEP = 0.02  # push once a traction would be off by this fraction of its limit (_slider)
 RATE_FILTER = 0.01  # s, time constant of the opening-rate low-pass
 LOADED = 0.05  # the rate factor ramps in over lambda / r in [0, LOADED] (no step in the force)
+STICK_SPEED = 1e-5  # m/s: a node sliding slower sticks and may re-bond (the stiction bound)
 # a broken node this far above the plate (m), and not closing faster than it can cover in
 # IDLE_STEPS steps, has its connector switched off (:func:`idle_changes`)
-IDLE_HEIGHT = 1.0e-3
-IDLE_STEPS = 4.0
+IDLE_HEIGHT, IDLE_STEPS = 1.0e-3, 4.0
 
 
 @dataclass(frozen=True)
@@ -209,22 +206,23 @@ def _slider(
     kt: float,
     tol: float,
     floor: float,
+    slack: float,
 ) -> tuple[bool, bool]:  # pragma: no cover - compiled
     """Return mapping of node i's friction slider at film x ``rel`` on the plate, pressed with
     ``normal`` (N), stiffness ``kt`` (N/m): (whether it sticks, whether its anchor must be
     pushed: the connector's friction would be off by more than ``tol`` of mu N plus ``floor``,
-    N: a bonded node's own push tolerance). A node not pressed carries no friction whatever its
-    anchor: the anchor follows it, unpushed.
+    N). It sticks while it slid less than ``slack`` (m) this step. A node not pressed carries
+    no friction: its anchor follows it, unpushed (a landing node meets its pushed anchor for
+    one step, at a small N).
 
-    k_t is the bond's shear stiffness K_t A (both shear the same layer): a node sticks within
-    mu p / K_t (about a micrometre), well inside the bond's elastic reach r d_t, so a pressed pad
-    holds its mu F_n when its bonds peak (the layer's Kc / 3, twenty times softer, did not)."""
+    k_t = K_t A, the bond's (one layer shears): a node sticks within mu p / K_t (~1 um), inside
+    the bond's elastic reach, so the pad holds mu F_n at its bonds' peak (Kc / 3 did not)."""
     limit = mu * normal
     if limit <= 0.0:
         anchor[i] = rel
         return False, False
     trial = kt * (rel - anchor[i])
-    sticks = abs(trial) <= limit * (1.0 + 1e-9)  # one held at its cone's edge (rounding) sticks
+    sticks = abs(trial) - limit <= kt * slack
     if abs(trial) > limit:
         anchor[i] = rel - np.sign(trial) * limit / kt
     return sticks, kt * abs(anchor[i] - pushed[i]) > tol * limit + floor
@@ -298,8 +296,7 @@ def step(
     Returns (pushes, bonded count, lowest film height, largest bond load: the opening lambda / r,
     1 once a bond softens); the last tells the step control how close the next bond failure is.
     """
-    d_t, r = law[1], law[2]
-    p_star, push_step, mu, kc, w, hc, p_rebond, k_n, k_t = law[5:]
+    d_t, r, (p_star, push_step, mu, kc, w, hc, p_rebond, k_n, k_t) = law[1], law[2], law[5:]
     n_push = n_bonded = 0
     lam_max, lowest = 0.0, np.inf
     xp, zp = q[plate_index], q[plate_index + 1]
@@ -313,10 +310,13 @@ def step(
         # the node's compressive force, as the connector sees it: contact plus a pressed bond
         squeeze = 0.0 if broken[i] else scale[i] * k_n * max(-un, 0.0)
         normal = area[i] * (pressure + squeeze)
-        # a bonded node's slider may be off by what its bond's scale may: push_step of its strength
-        floor = 0.0 if broken[i] else push_step * scale[i] * k_t * r * d_t * area[i]
-        kt = k_t * area[i]
-        sticks, moved = _slider(i, rel, normal, slider, slider_pushed, mu, kt, push_step, floor)
+        # a slider may be off by push_step of mu N plus that of its bond's strength (tau = K_t r
+        # d_t), or of a broken node's friction at the re-bond pressure
+        held = mu * p_rebond if broken[i] else scale[i] * k_t * r * d_t
+        floor, kt, slack = push_step * held * area[i], k_t * area[i], STICK_SPEED * h
+        sticks, moved = _slider(
+            i, rel, normal, slider, slider_pushed, mu, kt, push_step, floor, slack
+        )
         flags = SLIDE if moved else 0
         if not broken[i]:
             history = (p_max, rate, scale, opening_rate, opening_max)

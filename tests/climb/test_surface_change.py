@@ -54,7 +54,9 @@ def test_a_surface_change_resolves_its_foot_and_preset(params_dict):
 def test_a_pad_switched_to_a_weaker_surface_carries_less_and_slides_further(params):
     """Every pad bonded, the robot settling: at 0.3 s HR's pad moves to a wall of 2 % of the
     strength. Its bonds soften (they hold: the fracture energy is the old one's), so the pad
-    sheds its share of the weight to the others and slides further down the wall."""
+    sheds its share of the weight to the others and slides further down the wall. It keeps the
+    friction of its press, which the weak wall does not change (docs/decisions/0027): it sheds
+    40 % of its shear, not more."""
     spec = spec_of(params)
     weak = spec.surface.model_copy(update={"strength": 0.02 * spec.surface.strength})
     hr = LEG_NAMES.index("HR")
@@ -68,5 +70,5 @@ def test_a_pad_switched_to_a_weaker_surface_carries_less_and_slides_further(para
         before, end = np.searchsorted(c["t"], [0.29, 0.79])
         shear.append(abs(c["force"][end, 2 * hr]))
         slide.append(abs(c["foot"][end, 2 * hr] - c["foot"][before, 2 * hr]))
-    assert shear[1] < 0.6 * shear[0]
+    assert shear[1] < 0.65 * shear[0]
     assert slide[1] > slide[0] + 1e-4

@@ -27,6 +27,7 @@ PROTOCOL = SlipProtocol(
     ankle_stiffness=50.0,
     drive_stiffness=2.0e7,
     drive_height=1.0e-3,
+    coupon_modulus=1.0e8,  # a hard plastic plate: 100 MPa over the backing's 3 mm
 )
 
 

@@ -49,6 +49,9 @@ class SlipProtocol:
     drive_stiffness: float  # N/m along the drag: the leg and its mount, stiff as a drag stage's
     drive_height: float  # m above the pad where the drive holds the foot (its ankle height): a
     # lap-shear fixture pulls in the pad's plane, so the drag puts no moment on the pad
+    coupon_modulus: float  # Pa: a plate foot's pad is tested on a stiff coupon, not its foam,
+    # which would shear millimetres and load the bonds far slower than the drag (the test
+    # identifies the surface, not the foot)
 
 
 def drag(speed: float, distance: float) -> PiecewiseQuintic:
@@ -170,6 +173,9 @@ def slip_test(
     foot = m.foot.model_copy(
         update={"ankle_stiffness": protocol.ankle_stiffness, "ankle_height": protocol.drive_height}
     )
+    if foot.backing is not None:
+        coupon = foot.backing.model_copy(update={"modulus": protocol.coupon_modulus})
+        foot = foot.model_copy(update={"backing": coupon})
     stiff = protocol.drive_stiffness
     leg = m.leg_stiffness.model_copy(update={"x": stiff})
     body = m.body.model_copy(
@@ -179,7 +185,12 @@ def slip_test(
     parts: list[tuple[Array, Array, Array]] = []
     for i, load in enumerate(protocol.loads):
         run = replace(
-            spec, trajectory=traj, platform=platform, mechanics=mechanics, seed=spec.seed + i
+            spec,
+            trajectory=traj,
+            platform=platform,
+            mechanics=mechanics,
+            seed=spec.seed + i,
+            ankle_rest=0.0,  # the fixture holds the plate flat
         )
         parts.append(slip_run(run, load))
     step = 1.0 / spec.platform.sensor.rate_hz

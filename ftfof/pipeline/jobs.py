@@ -160,7 +160,7 @@ class Acquisition:
         started = time.perf_counter()
         with progress(label) as bar:
             total, done = len(self.specs), len(self.specs) - len(todo)
-            task = bar.add_task(label, total=total, completed=done, info="")
+            task = bar.add_task(label, total=total, completed=done, resumed=done, info="")
             finished = 0
             for results in self.run(todo, workers, address):
                 finished += len(results)

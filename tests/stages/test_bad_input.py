@@ -83,6 +83,19 @@ def test_acquire_refuses_a_limit_below_one(tmp_path):
     assert not (tmp_path / "acq").exists()
 
 
+def test_export_refuses_a_rate_beyond_its_bound_in_one_line_at_once(tmp_path):
+    out = tmp_path / "polynomial.csv"
+    args = cli_args("export", PARAMS, baseline="polynomial", rate="1e9", out=out)
+    started = time.monotonic()
+    result = runner.invoke(app, args)
+    assert result.exit_code == 2 and time.monotonic() - started < 30  # not a billion rows
+    assert result.stderr.strip().splitlines() == [
+        "error: --rate: export rate 1e+09 Hz is beyond the bound of 100000 Hz (a controller's "
+        "loop runs at 1-10 kHz)"
+    ]
+    assert not out.exists()
+
+
 def test_a_missing_input_names_the_stage_that_writes_it(tmp_path):
     missing = tmp_path / "data" / "polish" / "optimize"
     args = cli_args("evaluate", PARAMS, optimize=missing, out=tmp_path / "eval")

@@ -11,7 +11,7 @@ from typing import Annotated
 import typer
 
 from ftfof.pipeline.catalog import path
-from stages.common import ParamsOption, console, stage
+from stages.common import ParamsOption, WorkersOption, console, stage
 
 OUT = path("acquisition")
 TRAJECTORIES = path("trajectories")
@@ -26,7 +26,7 @@ def command(
     out: Annotated[Path, typer.Option(help="Acquisition dataset directory.")] = OUT,
     metrics: Annotated[Path, typer.Option(help="Summary metrics JSON.")] = METRICS,
     timing: Annotated[Path, typer.Option(help="Per-sample wall times (CSV).")] = TIMING,
-    workers: Annotated[int | None, typer.Option(help="Override acquire.workers.")] = None,
+    workers: Annotated[int | None, WorkersOption] = None,
     scheduler: Annotated[str | None, typer.Option(help="Override acquire.scheduler.")] = None,
     limit: Annotated[
         int | None, typer.Option(min=1, help="Only the first N sampled rows (at least 1).")

@@ -83,6 +83,17 @@ def test_acquire_refuses_a_limit_below_one(tmp_path):
     assert not (tmp_path / "acq").exists()
 
 
+@pytest.mark.parametrize("command", ["acquire", "refine", "polish", "evaluate"])
+def test_negative_workers_are_refused_before_anything_is_written(tmp_path, command):
+    """acquire.workers 0 means all cores, as --workers 0 does; below that nothing runs (acquire
+    wrote its manifest, then failed in the pool with a raw ValueError)."""
+    args = cli_args(command, PARAMS, workers=-3, out=tmp_path / "out")
+    result = runner.invoke(app, [*args, *(["--limit", "2"] if command == "acquire" else [])])
+    said = "Invalid value for '--workers': Input should be greater than or equal to 0"
+    assert result.exit_code == 2 and said in result.output
+    assert not list(tmp_path.iterdir())
+
+
 def test_export_refuses_a_rate_beyond_its_bound_in_one_line_at_once(tmp_path):
     out = tmp_path / "polynomial.csv"
     args = cli_args("export", PARAMS, baseline="polynomial", rate="1e9", out=out)

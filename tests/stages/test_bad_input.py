@@ -52,6 +52,22 @@ def test_allowed_infeasible_points_are_simulated_under_a_marked_name(tmp_path):
     assert names == ["points-infeasible.csv", "points-infeasible.png"]
 
 
+@pytest.mark.parametrize(
+    ("command", "out"), [("simulate", "out_dir"), ("export", "out"), ("climb", "out_dir")]
+)
+def test_a_nan_or_infinite_control_value_is_named_as_such(tmp_path, command, out):
+    """Not as a shape rule it breaks (`P15x < P11x ...`), for every command taking --points."""
+    X = [f"{v:g}" for v in PUBLISHED_M3F]
+    X[1], X[11] = "nan", "-inf"
+    args = cli_args(command, PARAMS, points=",".join(X), **{out: tmp_path / "out"})
+    result = runner.invoke(app, args)
+    assert result.exit_code == 2
+    assert result.stderr.strip().splitlines() == [
+        "error: --points: P4x is nan, P12z is -inf: every control value must be finite"
+    ]
+    assert not (tmp_path / "out").exists()
+
+
 def test_points_in_millimetres_without_the_unit_are_refused_with_the_fix(tmp_path):
     result = _simulate(tmp_path, 1000 * PUBLISHED_M3F)
     assert result.exit_code == 2 and "they look like millimetres (add --unit mm)" in result.stderr

@@ -92,6 +92,7 @@ def test_every_stage_wrote_its_outputs(repo):
 def test_mlflow_store_holds_every_tracked_stage(repo):
     client = mlflow.MlflowClient(tracking_uri=f"sqlite:///{repo / 'mlflow.db'}")
     experiment = client.get_experiment_by_name("ftfof-mst_m3f")
+    assert experiment.tags["mlflow.experimentKind"] == "custom_model_development"
     runs = client.search_runs([experiment.experiment_id])
     names = {r.info.run_name for r in runs}
     assert {"train", "optimize", "refine", "polish", "evaluate"} <= names

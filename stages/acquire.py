@@ -33,6 +33,7 @@ def command(
     ] = None,
 ) -> None:
     """Simulate the force-acquisition platform for every trajectory (resumable)."""
+    from ftfof.pipeline.estimate import FirstSamples
     from ftfof.pipeline.jobs import FINAL, Acquisition
     from ftfof.pipeline.params_file import load_params
     from ftfof.pipeline.summaries import write_metrics
@@ -47,7 +48,7 @@ def command(
         f"{len(job.specs) - len(todo)} already done, {len(todo)} to simulate"
         + (f" on {address}" if address else "")
     )
-    wall = job.simulate(todo, n_workers, address, "acquire")
+    wall = job.simulate(todo, n_workers, address, "acquire", FirstSamples(job.params, len(todo)))
     summary = job.finish(wall, len(todo), timing)
     write_metrics("acquire", metrics, summary)
     console.print(

@@ -165,16 +165,27 @@ def test_no_data_output_holds_a_wall_time_or_a_host_name(repo):
 def test_a_log_of_the_run_estimates_it_and_shows_each_climb_as_it_ends(reproduced):
     """Within acquire (the run's first minute at the paper's scale), an estimate of the whole
     run, of the right size; then polish's bar, and each climb's outcome as it ends."""
-    _, said, seconds = reproduced
+    from ftfof.pipeline.estimate import whole_run
+    from ftfof.pipeline.params_file import load_params
+
+    repo, said, seconds = reproduced
     text = " ".join(said.split())  # rich wraps a log's lines at 80 columns
-    found = re.search(r"estimate: .* the whole run should take about (\d+) (s|min) ", text)
+    found = re.search(
+        r"estimate: ([\d.]+) s per sample here .* the whole run should take about (\d+) (s|min) ",
+        text,
+    )
     summary = re.search(r" \d+ ok, \d+ failed ", text)  # acquire's last line
     assert found and summary and found.start() < summary.start()
-    estimate = int(found[1]) * (60 if found[2] == "min" else 1)
-    assert seconds / 3 < estimate < 3 * seconds, (estimate, seconds)
+    unit = 60 if found[3] == "min" else 1
+    estimate = int(found[2]) * unit
+    # on the tiny profile's sizes, not the paper's (9 min at the reference pace)
+    expected = whole_run(load_params(repo / "params.yaml"), float(found[1]))
+    assert abs(estimate - expected) <= 0.05 * expected + unit, (estimate, expected)
+    # of the right size, though a shared machine's load shifts between acquire and the rest
+    assert seconds / 4 < estimate < 4 * seconds, (estimate, seconds)
     assert re.search(r"polish .* left", text)  # its bar's row, with the time left
     ended = r" ([\w.]+): (?:ok|FELL: [^;]+|FAILED: [^;]+); 1 of 1 steps in [\d.]+ s"
-    metrics = json.loads((reproduced[0] / "reports/metrics.json").read_text())
+    metrics = json.loads((repo / "reports/metrics.json").read_text())
     climbed = set(metrics["climb"]) - {"not_climbed"}
     slips = {f"slip_eps_bezier.{controller}" for controller in metrics["slip"]}
     assert sorted(re.findall(ended, text)) == sorted(climbed | slips)  # one line each

@@ -11,6 +11,7 @@ from ftfof.config import Feasibility, Protocol, Robot, Surface
 from ftfof.errors import ParamsError
 from ftfof.kinematics.limits import RobotLimits, resolve_limits
 from ftfof.rules import FootRules, foot_rules
+from ftfof.trajectory.bezier import DECISION_NAMES
 from ftfof.trajectory.policy import ConstraintPolicy
 
 
@@ -44,7 +45,9 @@ def robot_context(
 
 
 def parse_points(text: str, unit: str) -> np.ndarray:
-    """The 12 control values P3x..P12x, P3z..P12z as written on a command line, in metres."""
+    """The 12 control values P3x..P12x, P3z..P12z as written on a command line, in metres; a NaN
+    or an infinity is refused by name (the robot's rules would refuse it, but naming a shape rule
+    it broke, not the value)."""
     scale = {"m": 1.0, "mm": 1e-3}.get(unit)
     if scale is None:
         raise ParamsError("--unit", f"must be m or mm (got {unit!r})")
@@ -54,6 +57,9 @@ def parse_points(text: str, unit: str) -> np.ndarray:
         raise ParamsError("--points", "must be 12 comma-separated numbers") from None
     if len(values) != 12:
         raise ParamsError("--points", f"needs 12 values P3x..P12z (got {len(values)})")
+    bad = [f"{n} is {v}" for n, v in zip(DECISION_NAMES, values, strict=True) if not np.isfinite(v)]
+    if bad:
+        raise ParamsError("--points", f"{', '.join(bad)}: every control value must be finite")
     return np.array(values) * scale
 
 

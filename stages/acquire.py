@@ -11,7 +11,7 @@ from typing import Annotated
 import typer
 
 from ftfof.pipeline.catalog import path
-from stages.common import ParamsOption, console, stage
+from stages.common import ParamsOption, WorkersOption, console, stage
 
 OUT = path("acquisition")
 TRAJECTORIES = path("trajectories")
@@ -26,13 +26,14 @@ def command(
     out: Annotated[Path, typer.Option(help="Acquisition dataset directory.")] = OUT,
     metrics: Annotated[Path, typer.Option(help="Summary metrics JSON.")] = METRICS,
     timing: Annotated[Path, typer.Option(help="Per-sample wall times (CSV).")] = TIMING,
-    workers: Annotated[int | None, typer.Option(help="Override acquire.workers.")] = None,
+    workers: Annotated[int | None, WorkersOption] = None,
     scheduler: Annotated[str | None, typer.Option(help="Override acquire.scheduler.")] = None,
     limit: Annotated[
         int | None, typer.Option(min=1, help="Only the first N sampled rows (at least 1).")
     ] = None,
 ) -> None:
     """Simulate the force-acquisition platform for every trajectory (resumable)."""
+    from ftfof.pipeline.estimate import FirstSamples
     from ftfof.pipeline.jobs import FINAL, Acquisition
     from ftfof.pipeline.params_file import load_params
     from ftfof.pipeline.summaries import write_metrics
@@ -47,7 +48,7 @@ def command(
         f"{len(job.specs) - len(todo)} already done, {len(todo)} to simulate"
         + (f" on {address}" if address else "")
     )
-    wall = job.simulate(todo, n_workers, address, "acquire")
+    wall = job.simulate(todo, n_workers, address, "acquire", FirstSamples(job.params, len(todo)))
     summary = job.finish(wall, len(todo), timing)
     write_metrics("acquire", metrics, summary)
     console.print(

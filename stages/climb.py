@@ -46,7 +46,7 @@ def command(
 ) -> None:
     """Climb the wall with the whole robot (climb.steps swings, one leg at a time), the swinging
     foot on the given trajectory; writes its channels, IMU, per-step metrics and traces."""
-    from ftfof.climb.outcome import CONTROLLERS, run_climb
+    from ftfof.climb.outcome import CONTROLLERS, ended, run_climb
     from ftfof.errors import ParamsError
     from ftfof.evaluate.pick import Source
     from ftfof.pipeline.bench import context_of
@@ -79,22 +79,15 @@ def command(
             console.print(
                 f"  {key:8s} slip {1e3 * row['slip_distance']:7.3f} mm (path"
                 f" {1e3 * row['slip_path']:7.3f} mm), peak {1e3 * row['max_slip_velocity']:7.2f}"
-                f" mm/s, {fell} ({row['wall_time_s']:.0f} s)"
+                f" mm/s, {fell}"
             )
         return
     out = run_climb(spec)
-    run = out.run
     paths = write_climb(out, out_dir, title)
     s = out.summary
-    state = (
-        "FELL: " + run.fall_reason if run.fell else ("FAILED: " + run.error if run.error else "ok")
-    )
-    console.print(
-        f"{name}: {state}; {int(s['steps_done'])} of {spec.climb.steps} steps in"
-        f" {run.wall_time:.1f} s -> {paths['metrics']}"
-    )
+    console.print(f"{ended(out)} -> {paths['metrics']}")
     figures = ("jitter", "jitter_step", "peak_pull", "slip", "min_bend_radius", "pitch_range")
     for key in (*figures, "torque_ratio"):
         console.print(f"  {key:16s} {s[key]:10.4g}")
-    if run.error:
+    if out.run.error:
         raise typer.Exit(1)

@@ -12,7 +12,7 @@ from typing import Annotated
 import typer
 
 from ftfof.pipeline.catalog import REPORTS, path
-from stages.common import ParamsOption, console, stage
+from stages.common import ParamsOption, WorkersOption, console, stage
 
 OPTIMIZE = path("polish_optimize")
 MODELS = path("refine_models")
@@ -35,7 +35,7 @@ def command(
     report: Annotated[Path, typer.Option(help="Self-contained HTML report.")] = REPORT,
     metrics: Annotated[Path, typer.Option(help="Metrics JSON.")] = METRICS,
     export: Annotated[Path, typer.Option(help="Controller CSV of the optimum.")] = EXPORT,
-    workers: Annotated[int | None, typer.Option(help="Override acquire.workers.")] = None,
+    workers: Annotated[int | None, WorkersOption] = None,
 ) -> None:
     """Re-simulate the optimum against the common trajectories; report, metrics, export."""
     from ftfof.evaluate.runs import OPTIMUM

@@ -12,7 +12,7 @@ from typing import Annotated
 import typer
 
 from ftfof.pipeline.catalog import path
-from stages.common import ParamsOption, console, stage
+from stages.common import ParamsOption, WorkersOption, console, stage
 
 OPTIMIZE = path("refine_optimize")
 MODELS = path("refine_models")
@@ -27,7 +27,7 @@ def command(
     models: Annotated[Path, typer.Option(help="The surrogates it was found on.")] = MODELS,
     out: Annotated[Path, typer.Option(help="Journal and the polished optimum.")] = OUT,
     report: Annotated[Path, typer.Option(help="What the polish did (JSON).")] = REPORT,
-    workers: Annotated[int | None, typer.Option(help="Override acquire.workers.")] = None,
+    workers: Annotated[int | None, WorkersOption] = None,
 ) -> None:
     """Search in simulation from the verified candidates; RHS on what the simulator measured."""
     from ftfof.pipeline.params_file import load_params

@@ -12,7 +12,7 @@ from typing import Annotated
 import typer
 
 from ftfof.pipeline.catalog import path
-from stages.common import ParamsOption, console, stage
+from stages.common import ParamsOption, WorkersOption, console, stage
 
 DATASET = path("dataset")
 ACQUISITION = path("acquisition")
@@ -35,7 +35,7 @@ def command(
     out: Annotated[Path, typer.Option(help="Rounds and final models, optimum, dataset.")] = OUT,
     report: Annotated[Path, typer.Option(help="Fidelity per round (JSON).")] = REPORT,
     figure: Annotated[Path, typer.Option(help="Fidelity against round (PNG).")] = FIGURE,
-    workers: Annotated[int | None, typer.Option(help="Override acquire.workers.")] = None,
+    workers: Annotated[int | None, WorkersOption] = None,
 ) -> None:
     """Simulate where the optimiser went, train there (warm start) and search again."""
     from ftfof.pipeline.params_file import load_params

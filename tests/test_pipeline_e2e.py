@@ -5,6 +5,7 @@ Slow (a few minutes): CI runs it with `-m slow`.
 
 import json
 import re
+import time
 from pathlib import Path
 
 import mlflow
@@ -37,12 +38,20 @@ def _out_hashes(repo) -> dict[str, str]:
 
 
 @pytest.fixture(scope="module")
-def repo(tmp_path_factory):
+def reproduced(tmp_path_factory) -> tuple[Path, str, float]:
+    """The tiny profile's `dvc repro` in a clean copy: the copy, what it printed on stderr (not a
+    terminal: what a log of it holds) and its seconds."""
     repo = clone_to(tmp_path_factory.mktemp("pipeline"))
     run(repo, "python", "-m", "ftfof", "profile", "tiny")
     run(repo, "git", "commit", "-q", "-am", "tiny profile")
-    run(repo, "dvc", "repro", timeout=600)
-    return repo
+    started = time.monotonic()
+    out = run(repo, "dvc", "repro", timeout=600)
+    return repo, out.stderr, time.monotonic() - started
+
+
+@pytest.fixture(scope="module")
+def repo(reproduced) -> Path:
+    return reproduced[0]
 
 
 def test_every_stage_wrote_its_outputs(repo):
@@ -89,9 +98,103 @@ def test_every_stage_wrote_its_outputs(repo):
     assert "up to date" in status.stdout
 
 
+# what a record of a wall time or a machine would be called (not the wall the robot climbs): data
+# outputs hash the same anywhere, timings belong in reports/
+TIMING_KEY = re.compile(
+    r"wall_?time|wall_?seconds|elapsed|duration|seconds|timestamp|hostname|\bhost\b|machine", re.I
+)
+
+
+def _records(path: Path) -> tuple[list[str], list[str]]:
+    """The keys (names, columns, metadata keys) and the text values a data output holds."""
+    import pyarrow as pa
+    import torch
+    from PIL import Image
+
+    keys: list[str] = []
+    values: list[str] = []
+
+    def walk(node: object) -> None:
+        if isinstance(node, dict):
+            keys.extend(str(k) for k in node)
+            for v in node.values():
+                walk(v)
+        elif isinstance(node, list | tuple):
+            for v in node:
+                walk(v)
+        elif isinstance(node, str | bytes):
+            values.append(node.decode(errors="replace") if isinstance(node, bytes) else node)
+
+    suffix = path.suffix
+    if suffix == ".parquet":
+        table = pq.read_table(path)
+        keys.extend(table.column_names)
+        walk(dict(table.schema.metadata or {}))
+        for column in table.columns:
+            if pa.types.is_string(column.type) or pa.types.is_large_string(column.type):
+                walk(column.to_pylist())
+    elif suffix == ".json":
+        walk(json.loads(path.read_text()))
+    elif suffix == ".jsonl":
+        walk([json.loads(line) for line in path.read_text().splitlines()])
+    elif suffix == ".pt":
+        walk(torch.load(path, weights_only=True, map_location="cpu"))
+    elif suffix == ".png":
+        walk(dict(Image.open(path).text))
+    else:
+        values.append(path.read_text())  # text: CSV, YAML, logs
+    return keys, values
+
+
+def test_no_data_output_holds_a_wall_time_or_a_host_name(repo):
+    """Every file under data/ after the tiny run: no key names a time taken or a machine, and no
+    value names this host."""
+    import socket
+
+    host = re.compile(rf"\b{re.escape(socket.gethostname())}\b")
+    files = [p for p in sorted((repo / "data").rglob("*")) if p.is_file()]
+    suffixes = {p.suffix for p in files}
+    assert {".parquet", ".json", ".jsonl", ".pt", ".png"} <= suffixes, suffixes
+    for path in files:
+        keys, values = _records(path)
+        where = path.relative_to(repo)
+        assert not [k for k in keys if TIMING_KEY.search(k)], (where, keys)
+        assert not [v for v in values if host.search(v)], where
+
+
+def test_a_log_of_the_run_estimates_it_and_shows_each_climb_as_it_ends(reproduced):
+    """Within acquire (the run's first minute at the paper's scale), an estimate of the whole
+    run, of the right size; then polish's bar, and each climb's outcome as it ends."""
+    from ftfof.pipeline.estimate import whole_run
+    from ftfof.pipeline.params_file import load_params
+
+    repo, said, seconds = reproduced
+    text = " ".join(said.split())  # rich wraps a log's lines at 80 columns
+    found = re.search(
+        r"estimate: ([\d.]+) s per sample here .* the whole run should take about (\d+) (s|min) ",
+        text,
+    )
+    summary = re.search(r" \d+ ok, \d+ failed ", text)  # acquire's last line
+    assert found and summary and found.start() < summary.start()
+    unit = 60 if found[3] == "min" else 1
+    estimate = int(found[2]) * unit
+    # on the tiny profile's sizes, not the paper's (9 min at the reference pace)
+    expected = whole_run(load_params(repo / "params.yaml"), float(found[1]))
+    assert abs(estimate - expected) <= 0.05 * expected + unit, (estimate, expected)
+    # of the right size, though a shared machine's load shifts between acquire and the rest
+    assert seconds / 4 < estimate < 4 * seconds, (estimate, seconds)
+    assert re.search(r"polish .* left", text)  # its bar's row, with the time left
+    ended = r" ([\w.]+): (?:ok|FELL: [^;]+|FAILED: [^;]+); 1 of 1 steps in [\d.]+ s"
+    metrics = json.loads((repo / "reports/metrics.json").read_text())
+    climbed = set(metrics["climb"]) - {"not_climbed"}
+    slips = {f"slip_eps_bezier.{controller}" for controller in metrics["slip"]}
+    assert sorted(re.findall(ended, text)) == sorted(climbed | slips)  # one line each
+
+
 def test_mlflow_store_holds_every_tracked_stage(repo):
     client = mlflow.MlflowClient(tracking_uri=f"sqlite:///{repo / 'mlflow.db'}")
     experiment = client.get_experiment_by_name("ftfof-mst_m3f")
+    assert experiment.tags["mlflow.experimentKind"] == "custom_model_development"
     runs = client.search_runs([experiment.experiment_id])
     names = {r.info.run_name for r in runs}
     assert {"train", "optimize", "refine", "polish", "evaluate"} <= names

@@ -1,6 +1,8 @@
 """A climb's outcome: whether the robot may climb a trajectory (:func:`checked_name`), the climb
 measured (:func:`run_climb`: its IMU, every step's figures and the feet's slip), and the plain
-records its files hold (:func:`channel_columns`, :func:`document`, :func:`controller_row`)."""
+records its files hold (:func:`channel_columns`, :func:`document`, :func:`controller_row`: no
+wall time, so equal climbs write equal files on any machine) and its line on a console
+(:func:`ended`)."""
 
 from __future__ import annotations
 
@@ -130,7 +132,6 @@ def document(out: Climbed) -> dict[str, Any]:
         "summary": {k: plain(v) for k, v in out.summary.items()},
         "fall": run.fall_reason,
         "error": run.error,
-        "wall_time_s": round(run.wall_time, 3),
         "controller": run.spec.climb.controller,
         "control": run.control,
         "slip_by_foot": out.slip.by_foot(),
@@ -140,7 +141,7 @@ def document(out: Climbed) -> dict[str, Any]:
 
 def controller_row(out: Climbed) -> dict[str, Any]:
     """One controller's row of a comparison: its slip_distance, slip_path, max_slip_velocity,
-    fell, fall, steps_done, what it did and the wall time."""
+    fell, fall, steps_done and what it did."""
     s = out.summary
     return {
         "slip_distance": plain(s["slip_distance"]),
@@ -150,8 +151,18 @@ def controller_row(out: Climbed) -> dict[str, Any]:
         "fall": out.run.fall_reason,
         "steps_done": plain(s["steps_done"]),
         "control": out.run.control,
-        "wall_time_s": round(out.run.wall_time, 3),
     }
+
+
+def ended(out: Climbed) -> str:
+    """How a climb ended, for a console: its name, whether it held, fell or failed, its steps and
+    its wall time (a console's, not a record's: it differs on every machine)."""
+    run = out.run
+    state = (
+        "FELL: " + run.fall_reason if run.fell else ("FAILED: " + run.error if run.error else "ok")
+    )
+    steps = f"{int(out.summary['steps_done'])} of {run.spec.climb.steps} steps"
+    return f"{out.name}: {state}; {steps} in {run.wall_time:.1f} s"
 
 
 def plain(value: object) -> object:

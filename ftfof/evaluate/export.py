@@ -10,6 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from ftfof.config.stages import EXPORT_MAX_RATE_HZ
 from ftfof.errors import ParamsError
 from ftfof.kinematics.legs import Leg, build_leg, within_limits
 from ftfof.robot import RobotContext
@@ -41,8 +42,34 @@ FRAME = (
 UNITS = {"t": "s", "x, z": "m", "vx, vz": "m/s", "q": "rad", "dq": "rad/s"}
 
 
+EXPORT_MAX_SAMPLES = 1_000_000  # rows of one exported trajectory (a long T3 at a high rate)
+
+
 class ExportRateError(ValueError):
-    """The export rate is too low to sample the trajectory (the rate's fault, not the leg's)."""
+    """The export rate gives too few samples, or more than a controller needs (the rate's fault,
+    not the leg's)."""
+
+
+def sample_count(T3: float, rate_hz: float) -> int:
+    """The samples over [0, T3] at ``rate_hz``: at least 3, and within EXPORT_MAX_RATE_HZ and
+    EXPORT_MAX_SAMPLES (checked before anything is sampled: a rate of 1e9 would build a
+    billion-row table); ExportRateError otherwise."""
+    if not 0 < rate_hz <= EXPORT_MAX_RATE_HZ:
+        raise ExportRateError(
+            f"export rate {rate_hz:g} Hz is beyond the bound of {EXPORT_MAX_RATE_HZ:g} Hz "
+            "(a controller's loop runs at 1-10 kHz)"
+        )
+    n = int(np.floor(T3 * rate_hz + 1e-9)) + 1
+    if n > EXPORT_MAX_SAMPLES:
+        raise ExportRateError(
+            f"export rate {rate_hz:g} Hz gives {n} samples over T3 = {T3:g} s, beyond the bound "
+            f"of {EXPORT_MAX_SAMPLES} samples"
+        )
+    if n < 3:
+        raise ExportRateError(
+            f"export rate {rate_hz:g} Hz gives fewer than 3 samples over T3 = {T3:g} s"
+        )
+    return n
 
 
 @dataclass(frozen=True)
@@ -62,14 +89,10 @@ def controller_trajectory(
     """Sample ``trajectory`` over [0, T3] at ``rate_hz`` and solve the leg's IK.
 
     Joint rates solve J(q) dq = v exactly through the leg's sagittal parameterisation (two free
-    joints, the third following from them). Raises ExportRateError for a rate giving fewer than 3
-    samples, ValueError at the first instant the leg cannot reach.
+    joints, the third following from them). Raises ExportRateError for a rate beyond
+    :func:`sample_count`'s bounds, ValueError at the first instant the leg cannot reach.
     """
-    t = np.linspace(0.0, T3, int(np.floor(T3 * rate_hz + 1e-9)) + 1)
-    if t.size < 3:
-        raise ExportRateError(
-            f"export rate {rate_hz} Hz gives fewer than 3 samples over T3 = {T3} s"
-        )
+    t = np.linspace(0.0, T3, sample_count(T3, rate_hz))
     s = trajectory.sample(t)
     position, velocity = s.position[0], s.velocity[0]
     theta = leg.inverse(position)
@@ -126,7 +149,12 @@ def runnable(
 ) -> ControllerTrajectory:
     """``trajectory`` (decision row ``X``, None for an analytic baseline) sampled at ``rate_hz``
     through ``ctx``'s leg; refused where the robot cannot run it (its constraint policy at that
-    rate, a joint's range or speed), one ParamsError naming the rule."""
+    rate, a joint's range or speed), one ParamsError naming the rule; a rate beyond
+    :func:`sample_count`'s bounds first, naming ``--rate``."""
+    try:
+        sample_count(ctx.policy.timing.T3, rate_hz)  # before a grid at that rate is built
+    except ExportRateError as err:
+        raise ParamsError("--rate", str(err)) from None
     leg = build_leg(ctx.robot.leg)
     if X is not None:
         failed = ctx.policy.at_rate(rate_hz).check(X).failed(0)
@@ -134,8 +162,6 @@ def runnable(
             raise ParamsError(name, f"{ctx.name} cannot run it: {'; '.join(failed[:3])}")
     try:
         out = controller_trajectory(trajectory, ctx.policy.timing.T3, leg, rate_hz)
-    except ExportRateError as err:
-        raise ParamsError("--rate", str(err)) from None
     except ValueError as err:
         raise ParamsError(name, str(err)) from None
     breaches = limit_breaches(out, leg)

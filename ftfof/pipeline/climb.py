@@ -23,6 +23,7 @@ from ftfof.climb.outcome import (
     checked_name,
     controller_row,
     document,
+    ended,
     run_climb,
 )
 from ftfof.climb.simulate import gait_of
@@ -34,6 +35,7 @@ from ftfof.errors import ParamsError
 from ftfof.evaluate.pick import Source
 from ftfof.files import atomic_path, save_figure, write_json, write_parquet
 from ftfof.pipeline.bench import bench, context_of
+from ftfof.pipeline.console import console, progress
 from ftfof.pipeline.export import trajectory_of
 from ftfof.pipeline.jobs import MANIFEST, open_resumable, source
 from ftfof.report.climb_figure import climb_traces, side_view, slip_comparison_figure
@@ -105,22 +107,33 @@ def climb_all(
     key = open_resumable(out_dir, identity)
     done = {n: read_document(out_dir, n) for n in specs if (out_dir / f"{n}.json").exists()}
     todo = {n: specs[n] for n in specs if n not in done}
-    for name, out in _climbed(todo, workers):
+    for name, out in _climbed(todo, workers, "climbs", len(done)):
         write_climb(out, out_dir, f"{params.robot} on {params.surface}: {name}")
         done[name] = read_document(out_dir, name)
     write_json(out_dir / MANIFEST, {"fingerprint": key, "complete": True, "source": source()})
     return {n: done[n] for n in specs}
 
 
-def _climbed(specs: dict[str, ClimbSpec], workers: int) -> Iterator[tuple[str, Climbed]]:
-    """Each spec's climb as it finishes, in a pool of ``workers`` (0: all cores)."""
+def _climbed(
+    specs: dict[str, ClimbSpec], workers: int, label: str, done: int = 0
+) -> Iterator[tuple[str, Climbed]]:
+    """Each spec's climb as it finishes, in a pool of ``workers`` (0: all cores), under a progress
+    bar ``label`` (``done`` climbs of it finished before) and a line saying how each ended."""
     workers = min(workers or os.cpu_count() or 1, max(len(specs), 1))
-    with ProcessPoolExecutor(
-        workers, mp_context=multiprocessing.get_context("fork"), initializer=_ignore_interrupts
-    ) as pool:
+    with (
+        progress(label) as bar,
+        ProcessPoolExecutor(
+            workers, mp_context=multiprocessing.get_context("fork"), initializer=_ignore_interrupts
+        ) as pool,
+    ):
+        total = done + len(specs)
+        task = bar.add_task(label, total=total, completed=done, resumed=done, info="")
         futures = {pool.submit(run_climb, spec): name for name, spec in specs.items()}
         for future in as_completed(futures):
-            yield futures[future], future.result()
+            out = future.result()
+            bar.console.print(f"  {ended(out)}")
+            bar.update(task, advance=1, info=out.name)
+            yield futures[future], out
 
 
 def read_document(out_dir: Path, name: str) -> dict[str, Any]:
@@ -159,12 +172,13 @@ def write_climb(out: Climbed, out_dir: Path, title: str) -> dict[str, Path]:
 
 
 def compare_controllers(
-    spec: ClimbSpec, out_dir: Path, title: str, workers: int = 0
+    spec: ClimbSpec, out_dir: Path, title: str, workers: int = 0, label: str = "controllers"
 ) -> dict[str, dict[str, Any]]:
     """``spec``'s climb (its surface change included) under each of CONTROLLERS, in a pool of
-    ``workers`` (0: all cores), each written as ``<name>.<controller>.*``; returns and writes
-    ``<name>.controllers.json``: per controller its slip_distance, slip_path, max_slip_velocity,
-    fell and the wall time; ``<name>.controllers.png``: the changed foot's slip under each (the
+    ``workers`` (0: all cores) under a progress bar ``label``, each written as
+    ``<name>.<controller>.*``; returns and writes ``<name>.controllers.json``: per controller its
+    slip_distance, slip_path, max_slip_velocity, fell, fall, steps and what it did;
+    ``<name>.controllers.png``: the changed foot's slip under each (the
     foot that slipped most under ``none`` without a surface change)."""
     specs = {
         c: replace(
@@ -173,7 +187,7 @@ def compare_controllers(
         for c in CONTROLLERS
     }
     outs: dict[str, Climbed] = {}
-    for controller, out in _climbed(specs, workers):
+    for controller, out in _climbed(specs, workers, label):
         write_climb(out, out_dir, f"{title}, controller {controller}")
         outs[controller] = out
     outs = {c: outs[c] for c in CONTROLLERS}
@@ -214,6 +228,7 @@ def slip_comparison(
     """The slip scenario's climb (:func:`slip_scenario_spec`) under each controller
     (:func:`compare_controllers`, its files in ``out_dir``, ``workers`` as there): per
     controller its slip_distance, slip_path, max_slip_velocity and fell."""
-    table = compare_controllers(spec, out_dir, title, workers)
+    console.print(f"slip comparison: {title}, under each of {', '.join(CONTROLLERS)}")
+    table = compare_controllers(spec, out_dir, title, workers, "slip comparison")
     keys = ("slip_distance", "slip_path", "max_slip_velocity", "fell")
     return {controller: {k: row[k] for k in keys} for controller, row in table.items()}

@@ -13,7 +13,7 @@ from __future__ import annotations
 import json
 import shutil
 import time
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -154,18 +154,27 @@ class Acquisition:
                 yield results
 
     def simulate(
-        self, todo: Sequence[SampleSpec], workers: int, address: str | None, label: str
+        self,
+        todo: Sequence[SampleSpec],
+        workers: int,
+        address: str | None,
+        label: str,
+        on_batch: Callable[[int, float], None] | None = None,
     ) -> float:
-        """Run ``todo`` with a progress bar (already-done samples count as complete); wall time."""
+        """Run ``todo`` with a progress bar (already-done samples count as complete); wall time.
+        ``on_batch`` hears the samples finished and the seconds taken after each batch."""
         started = time.perf_counter()
         with progress(label) as bar:
             total, done = len(self.specs), len(self.specs) - len(todo)
-            task = bar.add_task(label, total=total, completed=done, info="")
+            task = bar.add_task(label, total=total, completed=done, resumed=done, info="")
             finished = 0
             for results in self.run(todo, workers, address):
                 finished += len(results)
-                rate = finished / max(time.perf_counter() - started, 1e-9)
+                elapsed = time.perf_counter() - started
+                rate = finished / max(elapsed, 1e-9)
                 bar.update(task, advance=len(results), info=f"{rate:.2f} samples/s")
+                if on_batch is not None:
+                    on_batch(finished, elapsed)
         return time.perf_counter() - started
 
     def _write_part(self, results: Sequence[SampleResult]) -> None:

@@ -109,10 +109,7 @@ def _polish(
 ) -> dict[str, Any]:
     """The search in simulation from the ``passed`` candidates (their verdicts taken as
     measured), RHS on the measured result written to ``out/optimize``; the report."""
-    from ftfof.pipeline.simcheck import simulator_check_of
-
     cfg, opt = params.polish, params.optimize
-    settings = polish_settings(cfg, opt, params.search_seed)
     passed = sorted(passed, key=lambda v: v.row != inputs.optimum["front_row"])  # refine's first
     start = np.array([decision(inputs, v.row) for v in passed])
     console.print(
@@ -120,32 +117,10 @@ def _polish(
         f"{cfg.generations} generations from {len(start)} verified candidates, on "
         f"{', '.join(ctx.robot.objectives[: cfg.priorities])}"
     )
-    check = journaled(simulator_check_of(params, ctx), paths.out / JOURNAL)
-    fine = fine_policy(ctx, params.optimize.recheck_samples)
-    with progress("polish") as bar:
-        task = bar.add_task("polish", total=cfg.generations, info="")
-
-        def record(r: ConvergenceRecord) -> None:
-            info = f"{r.feasible} feasible, front {r.front}"
-            bar.update(task, completed=r.generation, info=info)
-
-        result = polish(
-            fine,
-            check,
-            start,
-            settings,
-            cfg.priorities,
-            cfg.spread,
-            FIRST_ROW,
-            passed,
-            record,
-            risk=cfg.risk_sigmas,
-        )
-    if not len(result.X):
+    searched, result = _searched(params, ctx, start, passed, paths.out / JOURNAL)
+    if not searched:
         why = f"none of the {result.simulated} trajectories simulated passed the check"
         return {"polished": False, "reason": why, "simulated": result.simulated}
-    searched = dict(zip((x.tobytes() for x in result.X), result.verdicts, strict=True))
-    result = _confirmed(params, ctx, result, paths.out / JOURNAL)
     if not len(result.X):
         why = "no polished trajectory passed again with fresh copies"
         return {"polished": False, "reason": why, "simulated": result.simulated}
@@ -167,6 +142,45 @@ def _polish(
     return polish_report(
         cfg, ctx.robot.objectives, size, start_row, before, result, outcome, searched
     )
+
+
+def _searched(
+    params: Params, ctx: RobotContext, start: np.ndarray, passed: list[Verdict], journal: Path
+) -> tuple[dict[bytes, Verdict], Polished]:
+    """The search from ``start`` and the confirmation of its best, under one progress bar (the
+    confirmation its last step): the search's verdicts on its best by decision bytes (none when
+    nothing passed), and the confirmed result."""
+    from ftfof.pipeline.simcheck import simulator_check_of
+
+    cfg = params.polish
+    settings = polish_settings(cfg, params.optimize, params.search_seed)
+    check = journaled(simulator_check_of(params, ctx), journal)
+    fine = fine_policy(ctx, params.optimize.recheck_samples)
+    with progress("polish") as bar:
+        task = bar.add_task("polish", total=cfg.generations + 1, info="")
+
+        def record(r: ConvergenceRecord) -> None:
+            info = f"generation {r.generation}: {r.feasible} feasible, front {r.front}"
+            bar.update(task, completed=r.generation, info=info)
+
+        result = polish(
+            fine,
+            check,
+            start,
+            settings,
+            cfg.priorities,
+            cfg.spread,
+            FIRST_ROW,
+            passed,
+            record,
+            risk=cfg.risk_sigmas,
+        )
+        searched = dict(zip((x.tobytes() for x in result.X), result.verdicts, strict=True))
+        if searched:
+            bar.update(task, info=f"confirming {len(result.X)} with fresh copies")
+            result = _confirmed(params, ctx, result, journal)
+        bar.update(task, completed=cfg.generations + 1, info="done")
+    return searched, result
 
 
 def _confirmed(params: Params, ctx: RobotContext, result: Polished, journal: Path) -> Polished:

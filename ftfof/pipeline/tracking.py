@@ -23,6 +23,9 @@ OPTIMIZE_RUN_TAG = "ftfof.optimize_run"  # on an evaluate run: the optimize run 
 # on refine, polish and evaluate runs: the registered model version (models:/<name>/<version>)
 # whose surrogates found the run's optimum
 MODEL_TAG = "ftfof.model"
+# what the experiment is for: MLflow 3's UI opens a model-training experiment on its runs, and
+# one without the tag on its GenAI overview (traces, an assistant)
+KIND_TAG, KIND = "mlflow.experimentKind", "custom_model_development"
 # the training data's path in the repository
 DATASET_SOURCE = (catalog.path("dataset") / "samples.parquet").as_posix()
 
@@ -49,7 +52,8 @@ def tracking_uri() -> str:
 
 
 def setup(experiment: str):
-    """Import MLflow configured for this project (quietly) and select the experiment."""
+    """Import MLflow configured for this project (quietly) and select the experiment, created
+    (or marked, where an earlier version made it) as a model-training one (``KIND_TAG``)."""
     os.environ.setdefault("MLFLOW_DISABLE_TELEMETRY", "true")
     os.environ.setdefault("GIT_PYTHON_REFRESH", "quiet")
     os.environ.setdefault("MLFLOW_ENABLE_ARTIFACTS_PROGRESS_BAR", "false")
@@ -60,12 +64,15 @@ def setup(experiment: str):
     logging.getLogger("mlflow").setLevel(logging.ERROR)
     logging.getLogger("alembic").setLevel(logging.ERROR)
     mlflow.set_tracking_uri(tracking_uri())
-    if mlflow.get_experiment_by_name(experiment) is None and not os.environ.get(
-        "MLFLOW_TRACKING_URI"
-    ):
-        # Artifacts beside the store, whatever directory the stage runs in (dvc exp --temp).
-        artifacts = (project_root() / "mlruns").as_uri()
-        mlflow.create_experiment(experiment, artifact_location=artifacts)
+    found = mlflow.get_experiment_by_name(experiment)
+    if found is None:
+        # Artifacts beside the store, whatever directory the stage runs in (dvc exp --temp);
+        # a store named by MLFLOW_TRACKING_URI keeps its own default.
+        env = os.environ.get("MLFLOW_TRACKING_URI")
+        artifacts = None if env else (project_root() / "mlruns").as_uri()
+        mlflow.create_experiment(experiment, artifact_location=artifacts, tags={KIND_TAG: KIND})
+    elif KIND_TAG not in found.tags:  # made before the tag
+        mlflow.MlflowClient().set_experiment_tag(found.experiment_id, KIND_TAG, KIND)
     mlflow.set_experiment(experiment)
     return mlflow
 

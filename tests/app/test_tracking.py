@@ -70,6 +70,21 @@ def test_link_tags_point_at_the_latest_matching_run(tmp_path: Path, monkeypatch)
     assert note.startswith(f"Surrogates: run [{latest}](#/experiments/") and note.endswith(").")
 
 
+@pytest.mark.integration  # a real MLflow SQLite store
+def test_the_experiment_is_a_model_training_one_new_or_made_before(tmp_path: Path, monkeypatch):
+    """MLflow's UI opens an experiment without the kind on its GenAI overview, not its runs."""
+    import mlflow
+
+    monkeypatch.setenv("MLFLOW_TRACKING_URI", f"sqlite:///{tmp_path / 'mlflow.db'}")
+    mlflow.set_tracking_uri(f"sqlite:///{tmp_path / 'mlflow.db'}")
+    older = mlflow.create_experiment("ftfof-older")  # as an earlier version left it
+    assert tracking.KIND_TAG not in mlflow.get_experiment(older).tags
+    for name in ("ftfof-new", "ftfof-older"):
+        tracking.setup(name)
+        tags = mlflow.get_experiment_by_name(name).tags
+        assert tags[tracking.KIND_TAG] == "custom_model_development"
+
+
 def test_every_run_logs_its_settings_the_robot_and_the_seeds(params):
     logged = tracking.run_params(params, polish={"generations": 16, "nested": {"a": 1}})
     assert logged["polish.generations"] == "16" and logged["polish.nested.a"] == "1"

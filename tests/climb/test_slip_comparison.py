@@ -17,7 +17,7 @@ from ftfof.report import run_metrics
 def test_the_comparison_climbs_the_scenario_once_per_controller(params, tmp_path, monkeypatch):
     seen = []
 
-    def compare(spec, out_dir, title, workers):
+    def compare(spec, out_dir, title, workers, label):
         seen.append(spec)
         row = {"slip_distance": 2e-3, "slip_path": 5e-3, "max_slip_velocity": 7e-3}
         row |= {"fell": False, "fall": ""}

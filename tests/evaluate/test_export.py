@@ -9,10 +9,13 @@ import yaml
 
 from ftfof.evaluate.export import (
     COLUMNS,
+    EXPORT_MAX_RATE_HZ,
+    EXPORT_MAX_SAMPLES,
     ExportRateError,
     controller_trajectory,
     limit_breaches,
     render,
+    sample_count,
 )
 from ftfof.kinematics.legs import build_leg
 from ftfof.trajectory.baselines import BezierTrajectory
@@ -60,6 +63,16 @@ def test_a_rate_too_low_for_three_samples_is_the_rates_fault(m3f):
     X = sample_feasible(m3f.policy, 1, seed=4).X[0]
     with pytest.raises(ExportRateError, match="fewer than 3 samples"):
         _export(m3f, X, 0.5)
+
+
+def test_a_rate_or_a_sample_count_beyond_its_bound_is_refused_before_sampling():
+    assert sample_count(1.0, EXPORT_MAX_RATE_HZ) == EXPORT_MAX_RATE_HZ + 1  # the bound holds
+    with pytest.raises(ExportRateError, match=r"1e\+09 Hz is beyond the bound of 100000 Hz"):
+        sample_count(1.0, 1e9)
+    with pytest.raises(ExportRateError, match="nan Hz is beyond"):
+        sample_count(1.0, float("nan"))
+    with pytest.raises(ExportRateError, match=f"beyond the bound of {EXPORT_MAX_SAMPLES} samples"):
+        sample_count(20.0, EXPORT_MAX_RATE_HZ)  # a long step at the highest rate
 
 
 def test_a_joint_out_of_range_or_too_fast_is_named_with_its_time(m3f):

@@ -52,6 +52,22 @@ def test_allowed_infeasible_points_are_simulated_under_a_marked_name(tmp_path):
     assert names == ["points-infeasible.csv", "points-infeasible.png"]
 
 
+@pytest.mark.parametrize(
+    ("command", "out"), [("simulate", "out_dir"), ("export", "out"), ("climb", "out_dir")]
+)
+def test_a_nan_or_infinite_control_value_is_named_as_such(tmp_path, command, out):
+    """Not as a shape rule it breaks (`P15x < P11x ...`), for every command taking --points."""
+    X = [f"{v:g}" for v in PUBLISHED_M3F]
+    X[1], X[11] = "nan", "-inf"
+    args = cli_args(command, PARAMS, points=",".join(X), **{out: tmp_path / "out"})
+    result = runner.invoke(app, args)
+    assert result.exit_code == 2
+    assert result.stderr.strip().splitlines() == [
+        "error: --points: P4x is nan, P12z is -inf: every control value must be finite"
+    ]
+    assert not (tmp_path / "out").exists()
+
+
 def test_points_in_millimetres_without_the_unit_are_refused_with_the_fix(tmp_path):
     result = _simulate(tmp_path, 1000 * PUBLISHED_M3F)
     assert result.exit_code == 2 and "they look like millimetres (add --unit mm)" in result.stderr
@@ -81,6 +97,30 @@ def test_acquire_refuses_a_limit_below_one(tmp_path):
     result = runner.invoke(app, args)
     assert result.exit_code == 2 and "--limit" in result.output
     assert not (tmp_path / "acq").exists()
+
+
+@pytest.mark.parametrize("command", ["acquire", "refine", "polish", "evaluate"])
+def test_negative_workers_are_refused_before_anything_is_written(tmp_path, command):
+    """acquire.workers 0 means all cores, as --workers 0 does; below that nothing runs (acquire
+    wrote its manifest, then failed in the pool with a raw ValueError)."""
+    args = cli_args(command, PARAMS, workers=-3, out=tmp_path / "out")
+    result = runner.invoke(app, [*args, *(["--limit", "2"] if command == "acquire" else [])])
+    said = "Invalid value for '--workers': Input should be greater than or equal to 0"
+    assert result.exit_code == 2 and said in result.output
+    assert not list(tmp_path.iterdir())
+
+
+def test_export_refuses_a_rate_beyond_its_bound_in_one_line_at_once(tmp_path):
+    out = tmp_path / "polynomial.csv"
+    args = cli_args("export", PARAMS, baseline="polynomial", rate="1e9", out=out)
+    started = time.monotonic()
+    result = runner.invoke(app, args)
+    assert result.exit_code == 2 and time.monotonic() - started < 30  # not a billion rows
+    assert result.stderr.strip().splitlines() == [
+        "error: --rate: export rate 1e+09 Hz is beyond the bound of 100000 Hz (a controller's "
+        "loop runs at 1-10 kHz)"
+    ]
+    assert not out.exists()
 
 
 def test_a_missing_input_names_the_stage_that_writes_it(tmp_path):

@@ -31,8 +31,12 @@ def test_report_renders_in_headless_chromium(evaluated, tmp_path):
 
 PROBE = """<script>
 window.addEventListener("load", () => {
-  const table = document.querySelector("table.paper");
-  document.body.dataset.tableOverflow = String(table.scrollWidth > table.parentElement.clientWidth);
+  const cut = t => t.scrollWidth > t.parentElement.clientWidth;
+  const tables = [...document.querySelectorAll("h2 ~ div.scroll > table")];
+  const first = tables.filter(t => t.closest("div").previousElementSibling.tagName === "H3");
+  document.body.dataset.tableOneTables = String(first.length);
+  document.body.dataset.tableOverflow = String(first.some(cut));
+  document.body.dataset.cutTables = tables.filter(cut).map(t => t.rows[0].cells.length).join(",");
   document.body.dataset.pageOverflow = String(
     document.documentElement.scrollWidth > window.innerWidth);
 });
@@ -40,8 +44,9 @@ window.addEventListener("load", () => {
 
 
 def test_the_first_screen_fits_1280_px_and_says_what_to_run(evaluated, tmp_path):
-    """At 1280 px the paper's table needs no horizontal scroll, and the run-this box holds the
-    chosen control points and the export command (laid out by headless Chromium)."""
+    """At 1280 px both Table I tables (the paper's figures; the foot and the film, 13 columns)
+    and every other table need no horizontal scroll, and the run-this box holds the chosen
+    control points and the export command (laid out by headless Chromium)."""
     work, *_ = evaluated
     html = (work / "report.html").read_text()
     probe = tmp_path / "probe.html"
@@ -57,7 +62,8 @@ def test_the_first_screen_fits_1280_px_and_says_what_to_run(evaluated, tmp_path)
         check=True, capture_output=True, text=True, timeout=120,
     ).stdout  # fmt: skip
     body = re.search(r"<body[^>]*>", dom).group(0)
-    assert 'data-table-overflow="false"' in body and 'data-page-overflow="false"' in body
+    assert 'data-table-one-tables="2"' in body and 'data-table-overflow="false"' in body
+    assert 'data-cut-tables=""' in body and 'data-page-overflow="false"' in body
     box = dom[dom.index('class="run-this"') : dom.index("Table I analogue")]
     assert all(f"<td>P{n}</td>" in box for n in (3, 4, 5, 10, 11, 12))
     assert "ftfof export --format ros-yaml" in box and "RHS visited" in box

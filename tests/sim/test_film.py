@@ -84,10 +84,11 @@ def test_the_film_stiffness_follows_from_its_material_and_fc_refuses_a_thick_fil
 
 @pytest.mark.integration
 def test_min_bend_radius_converges_with_the_node_count(params):
-    """< 10 % from N = 40 to 80 on the polynomial, Pf and a low drag; < 10 % from 20 to 40 on Pf
-    and the low drag. The acquisition runs at N = 40: with the 125 um film the polynomial's
-    clamp-edge boundary layer, ~ sqrt(EI / F) = 1.4 mm long, was ~19 % too gentle on the 2.5 mm
-    elements of N = 20 (the 240 um film's is 4 mm long)."""
+    """The plate foot backs the film, so the polynomial and Pf bend it gently, far from fc; a low
+    drag, 3-4 mm off the wall, folds the film between the plate and the wall below fc, and the
+    rule refuses it. The bend's curvature moves by less than a tenth of fc's from N = 20 to 40
+    and from 40 to 80 (curvature, not radius: a nearly flat film's radius swings widely at no
+    risk to the film). The acquisition runs at N = 40."""
     poly = Polynomial(np.array([0.12, 0.0]), params.baselines.lift_height, 1.0)
     nodes = (20, 40, 80)
     specs = []
@@ -99,18 +100,12 @@ def test_min_bend_radius_converges_with_the_node_count(params):
         results = list(pool.map(simulate, specs))
     assert all(r.ok for r in results), [r.error for r in results]
     radius = np.array([r.scalars["min_bend_radius"] for r in results]).reshape(3, 3)  # (N, traj)
-    change = np.abs(radius[1:] / radius[:-1] - 1)
-    assert np.all(change[1] < 0.10), radius
-    assert np.all(change[0, 1:] < 0.10), radius
-    # the polynomial's clamp-edge bend is too gentle at 20 (19 %): acquisition runs at 40
-    assert params.acquire.solver.nodes >= 40
-    # the polynomial peels as the elastica's steady root says, and keeps fc; Pf turns the pull
-    # away from the clamp (the clamp-edge elastica: past ~38 deg a 7 N pull bends it below fc)
-    # and bends the film below fc; a low drag folds it far tighter than either
     limit = film.film_limit(params.selected_robot, params.selected_surface)
-    assert radius[2, 0] == pytest.approx(limit.peel_root, rel=0.10)
-    assert radius[1, 0] >= limit.fc and radius[2, 0] >= limit.fc
-    assert radius[2, 2] < 0.5 * radius[2, 1] and radius[2, 1] < limit.fc
+    curvature_change = np.abs(np.diff(1.0 / radius, axis=0)) * limit.fc
+    assert np.all(curvature_change < 0.10), radius
+    assert params.acquire.solver.nodes >= 40
+    assert np.all(radius[:, :2] > 3 * limit.fc), radius  # the plate carries the film
+    assert np.all(radius[:, 2] < limit.fc), radius  # a low drag still folds it
     for r in results:  # the channel behind the summary: 0 before the peel and after the release
         k = r.channels["film_curvature"]
         assert 1 / k[r.channels["t"] >= 0].max() == pytest.approx(r.scalars["min_bend_radius"])

@@ -2,13 +2,11 @@
 
     python bench/study_feet.py [--samples 200] [--workers 2] [--out FILE.json]
 
-Why: issue 51's decision record compares the two feet on the same measurements, all made here by
-the library: Table I's six rows (figures and the cost per sample, one process, one worker), the
-spread of peak detachment and pull over the first N sampled trajectories (data/trajectories.parquet,
-or `ftfof sample` re-run and checked against dvc.lock's md5), the climbs (`ftfof climb`) and the
-identify round trip (`ftfof identify --simulate`), each on a temporary params file and folder.
-The grip foot is params.yaml's with its old foot values and acrylic calibration (GRIP_FOOT,
-GRIP_ACRYLIC). Nothing under data/, reports/ or params.yaml is written.
+Why: issue 51's decision record compares the feet on the same measurements, made here by the
+library: Table I's six rows with the cost per sample (one process), the spread over the first N
+sampled trajectories (data/trajectories.parquet, or `ftfof sample` re-run and checked against
+dvc.lock), the climbs and the identify round trip, on temporary params files and folders. The
+grip foot has its old values and acrylic calibration (GRIP_FOOT, GRIP_ACRYLIC).
 """
 
 from __future__ import annotations
@@ -187,6 +185,7 @@ def climb(params_path: Path, name: str, points: list[float] | None, out: Path) -
     result says so)."""
     what = ["--baseline", name] if points is None else ["--points", ",".join(map(str, points))]
     base = ["climb", "-p", str(params_path), *what, "--out-dir", str(out)]
+    t0 = time.perf_counter()
     rc, tail = command(base)
     allowed = rc != 0 and not list(out.glob("*.json"))
     if allowed:
@@ -196,6 +195,7 @@ def climb(params_path: Path, name: str, points: list[float] | None, out: Path) -
         return {"error": f"exit {rc}: {tail}", "allow_infeasible": allowed}
     doc = json.loads(docs[0].read_text())
     figs = read_climb(doc, pd.read_parquet(docs[0].with_suffix(".parquet")), params_path)
+    figs["wall_s"] = time.perf_counter() - t0  # the record holds no wall time
     return {"allow_infeasible": allowed, "refused": tail if allowed else "", **figs}
 
 
@@ -219,7 +219,7 @@ def read_climb(doc: dict[str, Any], df: pd.DataFrame, params_path: Path) -> dict
         "torque_worst": max(done, key=lambda st: st["torque_ratio"])["torque"] if done else "",
         "least_rebond": min(landed) if landed else None,
         "rebonds": landed,
-        "wall_s": doc.get("wall_time_s"),
+        "slip_distance": s.get("slip_distance"),
     }
 
 
@@ -251,17 +251,26 @@ def identify(params_path: Path, out: Path) -> dict[str, Any]:
     return res
 
 
-def robot_runs(foot: dict[str, Params], tmp: Path, workers: int, parts: set[str]) -> dict:
-    """Every climb and identify run of both feet, at most ``workers`` (<= 2) at a time."""
+def with_budget(params: Params, seconds: float | None) -> Params:
+    """``params`` with a climb's wall-time budget of ``seconds`` (None: its own): on a loaded
+    machine a climb runs out of wall time, not of physics."""
+    climb = params.climb.model_copy(update={"time_budget": seconds or params.climb.time_budget})
+    return params.model_copy(update={"climb": climb})
+
+
+def robot_runs(foot: dict[str, Params], tmp: Path, a: argparse.Namespace) -> dict:
+    """Every climb and identify run of both feet, at most ``a.workers`` (<= 2) at a time."""
     jobs: dict[tuple[str, str], Callable[[], dict[str, Any]]] = {}
+    parts = set(a.parts.split(","))
     for name, params in foot.items():
+        params = with_budget(params, a.climb_budget)
         path, paper = params_file(params, tmp / name), params.selected_robot.published_optimum
         todo = {b: None for b in BASELINES} | {"paper_optimum": paper}
         for b, x in todo.items() if "climb" in parts else ():
             jobs[(name, b)] = lambda p=path, b=b, x=x, d=tmp / name / b: climb(p, b, x, d)
         if "identify" in parts:
             jobs[(name, "identify")] = lambda p=path, d=tmp / name: identify(p, d)
-    with ThreadPoolExecutor(max_workers=max(1, min(2, workers))) as pool:
+    with ThreadPoolExecutor(max_workers=max(1, min(2, a.workers))) as pool:
         futures = {k: pool.submit(f) for k, f in jobs.items()}
         return {k: f.result() for k, f in futures.items()}
 
@@ -332,12 +341,13 @@ def robot_markdown(out: dict[str, Any]) -> list[str]:
             bend = 1e3 * c["min_bend_radius"] if c["min_bend_radius"] else None
             torque = f"{fmt(c['torque_ratio'])} ({c['torque_joint']})"
             rebond = f"{fmt(c['least_rebond'])} {c['rebonds']}"
-            figs = [fmt(c[k]) for k in ("peak_pull", "jitter")] + [fmt(bend)]
+            figs = [fmt(c[k]) for k in ("peak_pull", "jitter")] + [fmt(bend), f"{c['wall_s']:.0f}"]
             steps = f"{fmt(c['steps_done'])}/8"
-            rows.append([name, foot, steps, c["fall"] or "no", torque, rebond, *figs])
+            fell = c["fall"] or ("stopped" if c["error"] else "no")
+            rows.append([name, foot, steps, fell, torque, rebond, *figs])
             rows[-1].append("; ".join(note))
     head = "trajectory|foot|steps|fell|torque ratio (joint)|re-bonds (least, all)|peak pull N"
-    lines = table("Climbs (MST-M3F, acrylic)", head + "|jitter m/s²|bend mm|note", rows)
+    lines = table("Climbs (MST-M3F, acrylic)", head + "|jitter m/s²|bend mm|wall s|note", rows)
     rows = []
     for foot in FEET:
         i = out[foot].get("identify")
@@ -358,9 +368,9 @@ def main() -> None:
     ap.add_argument("--optimize", type=Path, default=Path("data/polish/optimize"))
     ap.add_argument("--repeats", type=int, default=3, help="timed runs of each Table I row")
     ap.add_argument("--parts", default="table,spread,climb,identify")
+    ap.add_argument("--climb-budget", type=float, help="wall seconds per climb (params' own)")
     a = ap.parse_args()
-    parts = set(a.parts.split(","))
-    foot = feet(load_params(Path("params.yaml")))
+    parts, foot = set(a.parts.split(",")), feet(load_params(Path("params.yaml")))
     X, where = optimum_X(foot["plate"], a.optimize)
     out: dict[str, Any] = {"optimum": where, "samples": a.samples, "workers": a.workers}
     out |= {"grip_foot": GRIP_FOOT, "grip_acrylic": GRIP_ACRYLIC, **{f: {} for f in FEET}}
@@ -375,11 +385,11 @@ def main() -> None:
             for name, params in foot.items():
                 out[name]["spread"] = spread(params, trajectories, a.samples, a.workers)
                 print(f"{name}: spread done", file=sys.stderr, flush=True)
-        for (name, what), res in robot_runs(foot, tmp, a.workers, parts).items():
+        for (name, what), res in robot_runs(foot, tmp, a).items():
             if what == "identify":
                 out[name]["identify"] = res
-            else:
-                out[name].setdefault("climbs", {})[what] = res
+                continue
+            out[name].setdefault("climbs", {})[what] = res
     a.out.write_text(json.dumps(out, indent=2, default=float) + "\n")
     print(markdown(out))
     print(f"\nwrote {a.out}", file=sys.stderr)

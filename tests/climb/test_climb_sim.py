@@ -9,6 +9,7 @@ import pytest
 
 from ftfof.climb.imu import ImuModel, imu_channels
 from ftfof.climb.simulate import climb
+from ftfof.config import LEG_NAMES
 from tests.climb.helpers import spec_of
 
 pytestmark = pytest.mark.integration
@@ -108,20 +109,28 @@ def test_the_first_swing_peels_and_relands_its_pad(params):
     assert c["body"][-1, 0] == pytest.approx(gait.advance, rel=0.1)
 
 
-def _without_sole(spec):
-    foot = spec.robot.platform.foot.model_copy(update={"sole_length": None})
-    platform = spec.robot.platform.model_copy(update={"foot": foot})
-    return replace(spec, robot=spec.robot.model_copy(update={"platform": platform}))
+def _landed(run) -> list[float]:
+    """Each landed pad's bonds after its landing hold, step by step."""
+    c, gait = run.channels, run.gait
+    out = []
+    for k in range(gait.steps):
+        held = c["t"] >= gait.lift_off(k) + gait.swing + gait.hold
+        if held.any():
+            out.append(float(c["bonds"][np.argmax(held), gait.leg_of(k)]))
+    return out
 
 
-@pytest.mark.parametrize("sole", [True, False])
-def test_the_sole_spreads_the_landing_press_so_the_whole_pad_bonds_again(params, sole):
-    """The first swing's foot (a hind one) lands and presses to a: with its sole the whole pad
-    bonds again; without, only the heel's 8 bonds of 41 hold (the film beyond stands off the
-    wall: docs/decisions/0019)."""
+def test_the_plate_spreads_the_landing_press_over_the_pad(params):
+    """The first swing's foot (a hind one) lands and presses to a, and the plate, against its
+    ankle's stop at flat, carries the press over the pad: 37 of 41 bonds form again, where the
+    grip foot without its sole re-bonded 8, its film standing off the wall beyond the heel
+    (docs/decisions/0019; the sole is gone with the plate, decision 0028). Not the whole pad:
+    the climbing leg's ankle link stands 0.1-0.3 degrees off the wall, 0.1-0.26 mm over the pad,
+    and the 3 mm foam takes that up in part only. Issue 51 asks for 95 % (39 of 41): not met
+    (reported); the bound is the measured 37 less one bond."""
     spec = spec_of(params)
     spec = replace(spec, climb=spec.climb.model_copy(update={"steps": 1}))
-    run = climb(spec if sole else _without_sole(spec))
+    run = climb(spec)
     c = run.channels
     leg = run.gait.leg_of(0)
     landed = c["bonds"][-1, leg]
@@ -129,29 +138,40 @@ def test_the_sole_spreads_the_landing_press_so_the_whole_pad_bonds_again(params,
         c["t"] < run.gait.lift_off(0) + run.gait.swing + run.gait.hold, 2 * leg + 1
     ]
     assert -pressed.min() == pytest.approx(params.selected_robot.pre_pressure, rel=0.05)
-    if sole:
-        assert landed == c["bonds"][0, leg]
-    else:
-        assert 0 < landed < 0.3 * c["bonds"][0, leg]
+    assert 36 <= landed < c["bonds"][0, leg], landed
 
 
 def test_a_crawl_whose_landings_lay_the_whole_pad_climbs_eight_step_lengths(params):
-    """The ε-Bezier lands hard (12-17 N): every landing re-bonds all of its pad, fore feet
-    included, and the crawl climbs its 8 steps (decision 0019: the gentler landings of the other
-    common trajectories re-bond the fore pads in part and fall in step 3)."""
+    """The ε-Bezier lands hard (12-17 N) and climbs its 8 steps. On the grip foot only it
+    climbed, every landing re-bonding all of its pad (decision 0019). On the plate its landings
+    re-bond 41 of 41 in the first four steps (measured) and at least 36 in every step, fore
+    feet included, where the polynomial's gentle fore landings re-bond 26-27
+    (test_a_gentle_landing_bonds_the_fore_pad_in_part_and_the_crawl_still_climbs)."""
     run = climb(spec_of(params, "eps_bezier"))
     assert run.ok and not run.fell, run.fall_reason
     c = run.channels
     assert c["body"][-1, 0] == pytest.approx(run.gait.steps * run.gait.advance, rel=0.1)
-    for k in range(run.gait.steps):  # after each landing hold, the landed pad holds whole
-        held = c["t"] >= run.gait.lift_off(k) + run.gait.swing + run.gait.hold
-        assert c["bonds"][np.argmax(held), run.gait.leg_of(k)] == c["bonds"][0, 0]
+    landed = _landed(run)
+    assert len(landed) == run.gait.steps
+    assert landed[:4] == [c["bonds"][0, 0]] * 4 and min(landed) >= 36, landed
 
 
-def test_a_gentle_landing_bonds_the_fore_pad_in_part_and_the_crawl_falls(params):
+def test_a_gentle_landing_bonds_the_fore_pad_in_part_and_the_crawl_still_climbs(params):
+    """The polynomial lands gently at a. On the grip foot its fore landings re-bonded a part of
+    the pad and the crawl fell in step 3 (decision 0019). On the plate it climbs its 8 steps
+    (decision 0028): in the first four steps the hind landings re-bond 37 of 41 and the fore
+    ones 26 and 27 (decision 0028: hind 36-37, fore 26; the foam takes up the climbing leg's
+    attitude error only in part under a gentle 5 kPa), and the stance holds on that. Issue 51
+    asks every landing to re-bond 95 %: the fore ones do not (reported); this test keeps them
+    between half the pad and 0.8 of it (a fix that lays them whole must move it), the hind ones
+    at 36 or more."""
     run = climb(spec_of(params, "polynomial"))
+    assert run.ok and not run.fell, run.fall_reason
     c = run.channels
-    fore = run.gait.leg_of(1)  # the first fore foot to swing
-    held = c["t"] >= run.gait.lift_off(1) + run.gait.swing + run.gait.hold
-    assert 0 < c["bonds"][np.argmax(held), fore] < 0.5 * c["bonds"][0, fore]
-    assert run.fell and run.ok and "let go" in run.fall_reason
+    assert c["body"][-1, 0] == pytest.approx(run.gait.steps * run.gait.advance, rel=0.1)
+    landed = np.array(_landed(run))
+    assert landed.size == run.gait.steps
+    whole = c["bonds"][0, 0]
+    fore = np.array([LEG_NAMES[run.gait.leg_of(k)][0] == "F" for k in range(run.gait.steps)])
+    assert np.all(landed[~fore] >= 36), landed
+    assert np.all((landed[fore] >= 0.5 * whole) & (landed[fore] < 0.8 * whole)), landed

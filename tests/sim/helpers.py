@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ftfof.config import Params
+from ftfof.config import Params, Robot
 from ftfof.sim.spec import Bench, SampleSpec
 from ftfof.trajectory.bezier import Samples
 from ftfof.trajectory.piecewise import PiecewiseQuintic
@@ -12,6 +12,30 @@ from ftfof.trajectory.piecewise import PiecewiseQuintic
 PUBLISHED = (
     np.array([2.3, 18.3, 31.4, 108.8, 123.7, 124.5, 23.6, 25.5, 29.0, 48.6, 30.5, 11.1]) / 1000
 )
+
+# The grip foot (foot.model: grip, docs/decisions/0028): the film's first grip_length clamped, the
+# rest of the pad free ahead of it, on the old spring-loaded ankle. The physics tests of the bond
+# law and of the film's own elastica (Kendall's peel, pull-off, lap shear, the clamp-edge bend)
+# need a free film; the plate foot backs the whole film and turns it about its toe instead.
+GRIP = {
+    "model": "grip",
+    "backing": None,
+    "ankle_range": None,
+    "ankle_stiffness": 0.5,
+    "ankle_damping": 0.005,
+    "inertia": 1.0e-5,
+}
+
+# Acrylic as calibrated on the grip foot before the plate (params.yaml at a168eba, decision 0013's
+# cap on G): for the grip tests whose expectations are the elastica of that film on that bond
+ACRYLIC_ON_GRIP = {"strength": 32711.3, "fracture_energy": 76.8, "preload_pressure": 13035.8}
+
+
+def grip_robot(robot: Robot, **foot: object) -> Robot:
+    """``robot`` with the grip foot on its platform (``foot``: more of the foot's fields)."""
+    platform = robot.platform
+    grip = platform.foot.model_copy(update={**GRIP, **foot})
+    return robot.model_copy(update={"platform": platform.model_copy(update={"foot": grip})})
 
 
 def bench(

@@ -66,12 +66,35 @@ def logged(monkeypatch):
     return _Logged
 
 
+def _newton_recoveries(t: np.ndarray, h: np.ndarray, step: float, t_land: float) -> np.ndarray:
+    """The steps shorter than ``step``, checked to be Exudyn's own recovery from a Newton failure
+    (``adaptiveStep``: the step halved, then grown back), not a step the pre-step chose: each a
+    power-of-two fraction of ``step``, all in the plate's touchdown (the toe meets the wall and the
+    plate rolls flat, the bonds forming under it: 0 to 41 within 12 ms), at most 15 ms in all
+    (the polynomial: 85 steps of 125-250 us over 10.6 ms, 56 ms before the trajectory's end)."""
+    short = h < step * (1 - 1e-12)
+    halvings = np.log2(step / h[short])
+    assert np.allclose(halvings, np.round(halvings), rtol=0, atol=1e-9), h[short]
+    if short.any():
+        assert t[short].max() - t[short].min() <= 0.015, t[short]
+        assert t_land - 0.1 < t[short].min() and t[short].max() <= t_land
+    return short
+
+
 @pytest.mark.integration
 def test_without_phase_steps_every_step_is_the_step(params, logged):
-    result = simulate(_specs(params, {})[0])
+    """No step is longer than the step. On the plate foot the touchdown makes Newton fail at
+    500 us (the film meeting the wall under the rolling plate), and Exudyn halves the step there
+    and grows it back: those are the only shorter steps (the grip foot took none)."""
+    spec = _specs(params, {})[0]
+    result = simulate(spec)
     assert result.ok, result.error
-    h = np.array([row[1] for row in logged.log])
-    assert np.all(h[:-1] == params.acquire.solver.step)
+    t, h = np.array([row[:2] for row in logged.log]).T
+    step = params.acquire.solver.step
+    assert np.all(h[:-1] <= step)
+    t_land = spec.trajectory_start + spec.trajectory.duration
+    short = _newton_recoveries(t[:-1], h[:-1], step, t_land)
+    assert np.all(h[:-1][~short] == step)
     assert result.scalars["long_steps"] == 0
 
 
@@ -89,8 +112,9 @@ def test_long_steps_only_in_their_phases(params, logged):
     long = np.isclose(h, 2e-3, rtol=0, atol=1e-12)
     # the run's last step is cut to end on the end time
     assert long[:-1].sum() + 1 == result.scalars["long_steps"] > 400 and h[-1] < 2e-3
-    assert np.all(np.isclose(h[~long][:-1], spec.solver.step, rtol=0, atol=1e-15))
     t0, t_land = spec.trajectory_start, spec.trajectory_start + spec.trajectory.duration
+    short = _newton_recoveries(t[:-1], h[:-1], spec.solver.step, t_land)  # the touchdown's
+    assert np.all(np.isclose(h[:-1][~long[:-1] & ~short], spec.solver.step, rtol=0, atol=1e-15))
     eps = prestep.PHASE_EPS
     before = t <= t0 + eps
     flight = long & (start >= t0 - eps) & (start < t_land)
@@ -104,32 +128,43 @@ def test_long_steps_only_in_their_phases(params, logged):
     assert np.all(lowest[previous] > prestep.FLIGHT_HEIGHT)
     assert np.all(bonded[flight] == 0) and np.all(lowest[flight] > bonds.IDLE_HEIGHT)
     assert math.isclose(t[-1], spec.end_time, abs_tol=1e-9)
-    assert np.allclose(np.diff(t)[:-1], h[1:-1], rtol=0, atol=1e-12)
+    # the pre-step also sees a step Newton fails (the touchdown's): the retry starts again from
+    # that step's start, so the clock runs by the steps that were kept
+    kept = np.append(np.diff(t) > 0, True)
+    assert np.allclose(np.diff(t[kept])[:-1], h[kept][1:-1], rtol=0, atol=1e-12)
 
 
 @pytest.mark.integration
 def test_schedule_keeps_table_one_and_repeats(params):
     """The recommended schedule: pull, detachment jitter and bend bit for bit (the first long
-    step comes after them); the landing press, the run's peak body acceleration and the pad's
-    clearance within 0.1 %; no step change kicks the body: body_acc within 0.02 m/s² of one step
-    throughout up to the landing hold's first long step (Pf's flight ringing, integrated at
-    another step, differs by up to 0.015 m/s², 0.5 % of the run's peak: the release it rings
-    from passes through the friction sliders' stick-slip), and within 0.1 m/s² after it (its
-    0.054 m/s² blip as the step grows there, 2 % of the run's peak, where the old pre-step change
-    kicked the body by 2.5-3.5 m/s²); two runs are bit-identical."""
+    step comes after them); the run's peak body acceleration within 0.1 %, the landing press and
+    the pad's clearance within 0.2 %; no step change kicks the body: body_acc within 0.5 % of the
+    run's peak of one step throughout up to the landing hold's first long step, and within
+    0.1 m/s² after it (its 0.054 m/s² blip as the step grows there, where the old pre-step change
+    kicked the body by 2.5-3.5 m/s²); two runs are bit-identical.
+
+    The flight, integrated at 1 ms, rings a little differently: on the grip foot Pf's ringing
+    differed by 0.015 m/s², 0.5 % of its peak. The plate foot swings on a soft ankle
+    (0.05 N m/rad) and shakes the body harder at its release (peaks 5.05 and 8.93 m/s²): the
+    polynomial's flight differs by 0.020 m/s² (0.40 % of its peak) and Pf's by 0.037 m/s²
+    (0.41 %), the same share of the peak, so the bound is that share. Pf then reaches the wall
+    77 um lower at the flight's top (0.13 % of its 58.6 mm clearance) and lands 6 mN softer
+    (0.13 % of its 4.98 N press; the check step's own change of it is 0.07 %, and the simulator
+    check allows 5 %); the polynomial's stay within 0.01 %."""
     one, long, again = ([simulate(s) for s in _specs(params, q)] for q in ({}, SCHEDULE, SCHEDULE))
     for spec, a, b, c in zip(_specs(params, {}), one, long, again, strict=True):
         assert a.ok and b.ok and c.ok
         assert b.scalars["long_steps"] > 100
         for figure in ("peak_pull", "min_bend_radius", "switch_time"):
             assert b.scalars[figure] == a.scalars[figure]
-        for figure in ("landing_pre_pressure", "peak_body_acc", "max_clearance"):
-            assert b.scalars[figure] == pytest.approx(a.scalars[figure], rel=1e-3)
+        assert b.scalars["peak_body_acc"] == pytest.approx(a.scalars["peak_body_acc"], rel=1e-3)
+        for figure in ("landing_pre_pressure", "max_clearance"):
+            assert b.scalars[figure] == pytest.approx(a.scalars[figure], rel=2e-3)
         first_break = np.flatnonzero(a.channels["bonds"] < a.channels["bonds"][0])[0]
         window = slice(first_break, np.flatnonzero(a.channels["switch"] > 0)[0] + 50)
         assert np.array_equal(a.channels["body_acc"][window], b.channels["body_acc"][window])
         off = np.abs(a.channels["body_acc"] - b.channels["body_acc"])
         rate = params.platform.sensor.rate_hz
         hold = round((spec.end_time - params.platform.protocol.landing_hold + LANDING) * rate)
-        assert np.max(off[:hold]) < 0.02 and np.max(off) < 0.1
+        assert np.max(off[:hold]) < 0.005 * a.scalars["peak_body_acc"] and np.max(off) < 0.1
         assert all(np.array_equal(b.channels[k], c.channels[k]) for k in b.channels)

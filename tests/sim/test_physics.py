@@ -7,12 +7,31 @@ import pytest
 
 from ftfof.sim.simulate import simulate
 from ftfof.trajectory.baselines import Polynomial
-from tests.sim.helpers import PUBLISHED, bench, straight_pull, waypoints, with_trajectory
+from tests.sim.helpers import (
+    ACRYLIC_ON_GRIP,
+    GRIP,
+    PUBLISHED,
+    bench,
+    straight_pull,
+    waypoints,
+    with_trajectory,
+)
 
 pytestmark = pytest.mark.integration
 
 # Kendall's elastic-peel law without the rate and preload factors: R = 1 (v* huge), phi = 1.
 PLAIN = {"rate_speed": 1e12, "preload_pressure": 1.0}
+# The same on the acrylic the grip foot was calibrated with (sigma 32.7 kPa, G 76.8 J/m^2: a
+# critical opening 2 G / sigma of 4.7 mm). Today's plate-calibrated acrylic (66.7 kPa, 36.8 J/m^2,
+# 1.1 mm) is too brittle for the grip's rigs: its 45-degree peel reads 1.37 bG, beyond Kendall's
+# 20 %, and its whole pad, clamped on the tilting grip, unzips from an edge at 42 N, 0.63 sigma A.
+PLAIN_ON_GRIP = {**ACRYLIC_ON_GRIP, **PLAIN}
+
+# The bond law's and the film's own laws (Kendall's peel, pull-off, lap shear, the preload's
+# saturation) are tested through the grip foot, whose film is free ahead of its clamp, or clamped
+# whole: the default plate foot backs the whole film through its foam and lets go by turning
+# about its toe, so no free arm peels at a steady angle and no clamp loads every bond alike
+# (docs/decisions/0028).
 
 
 def _run_all(specs):
@@ -25,8 +44,8 @@ def _peel_spec(params, theta_deg: float):
     robot = params.selected_robot
     b = bench(
         params,
-        surface=PLAIN,
-        foot={"ankle_stiffness": 50.0},
+        surface=PLAIN_ON_GRIP,
+        foot={**GRIP, "ankle_stiffness": 50.0},
         robot={"foot": robot.foot.model_copy(update={"pad_length": 0.16})},
         solver={"nodes": 128},  # 1.25 mm: discrete snaps dissipate ~15 % more at 2.5 mm
     )
@@ -61,8 +80,7 @@ def test_constant_angle_peel_follows_kendall(peels, params):
     F falls as theta grows. The rig steers the pull by a string's bisector rule; the 240 um film's
     arm bends (sqrt(EI / F) ~ 10 mm at 1 N), so the angles come out wider than aimed (measured
     50 / 115 / 189 deg for 45 / 90 / 135), and Kendall holds at the angle the pull really has."""
-    s = params.selected_surface
-    bG = params.selected_robot.platform.film.width * s.fracture_energy
+    bG = params.selected_robot.platform.film.width * ACRYLIC_ON_GRIP["fracture_energy"]
     forces, angles = [], []
     for force, theta in peels.values():
         assert force * (1 - np.cos(np.radians(theta))) == pytest.approx(bG, rel=0.2)
@@ -75,11 +93,13 @@ def test_constant_angle_peel_follows_kendall(peels, params):
 def test_whole_pad_pull_off_is_far_above_any_peel(params, peels):
     robot = params.selected_robot
     lf = robot.foot.pad_length
-    b = bench(params, surface=PLAIN, foot={"grip_length": lf, "ankle_stiffness": 50.0})
+    b = bench(
+        params, surface=PLAIN_ON_GRIP, foot={**GRIP, "grip_length": lf, "ankle_stiffness": 50.0}
+    )
     pull = waypoints([0.0, 0.3], [(0, 0), (0, 0.03)], [(0, 0), (0, 0)])
     result = simulate(with_trajectory(b, pull, "pull-off"))
     assert result.ok, result.error
-    expected = params.selected_surface.strength * robot.platform.film.width * lf
+    expected = ACRYLIC_ON_GRIP["strength"] * robot.platform.film.width * lf
     assert result.scalars["peak_detachment"] == pytest.approx(expected, rel=0.25)
     assert result.scalars["peak_detachment"] > 3 * max(f for f, _ in peels.values())
 
@@ -95,9 +115,14 @@ def test_peak_detachment_rises_with_detachment_speed(params):
 
 
 def test_adhesion_rises_then_saturates_with_preload(params):
+    """On the grip foot, whose press reaches the 5 mm grip alone (0.1 cm^2 of pad per N: 20 N is
+    10 p*), the peel's peak saturates like 1 - exp(-p / p*). The plate spreads the press over the
+    whole pad (10x the area), so there 20 N is one p* and the peak still rises (1.2, 3.7, 7.6, 12.4,
+    18.4 N at 0.5-20 N): the same law, at a tenth of the pressure."""
     presses = (0.5, 2.0, 5.0, 10.0, 20.0)
     specs = [
-        bench(params, robot={"pre_pressure": a}).bezier("preload", 0, PUBLISHED) for a in presses
+        bench(params, foot=GRIP, robot={"pre_pressure": a}).bezier("preload", 0, PUBLISHED)
+        for a in presses
     ]
     peaks = np.array([r.scalars["peak_detachment"] for r in _run_all(specs)])
     assert np.all(np.diff(peaks) > -0.05 * peaks[1:]), peaks
@@ -149,7 +174,7 @@ def test_joint_level_leg_agrees_with_the_lumped_leg(params):
 def _whole_pad(params, surface: dict, pre_pressure: float = 0.1):
     """The foot clamps the whole pad: pull-off and lap shear load every bond alike."""
     lf = params.selected_robot.foot.pad_length
-    foot = {"grip_length": lf, "ankle_stiffness": 50.0}
+    foot = {**GRIP, "grip_length": lf, "ankle_stiffness": 50.0}
     return bench(params, surface=surface, foot=foot, robot={"pre_pressure": pre_pressure})
 
 
@@ -165,11 +190,12 @@ def test_whole_pad_holds_k_times_its_pull_off_in_lap_shear(params):
     """With almost no preload (no friction to help), every bond loaded alike: the pad holds
     sigma_max A in pull-off and at least k times that in lap shear, k the surface's
     shear_capacity_ratio from its cited source."""
-    pulled, sheared = _run_all(_pull_and_lap(params, PLAIN))
+    pulled, sheared = _run_all(_pull_and_lap(params, PLAIN_ON_GRIP))
     assert pulled.ok and sheared.ok, (pulled.error, sheared.error)
     surface = params.selected_surface
     area = params.selected_robot.platform.film.width * params.selected_robot.foot.pad_length
-    assert pulled.scalars["peak_normal"] == pytest.approx(surface.strength * area, rel=0.15)
+    strength = ACRYLIC_ON_GRIP["strength"]
+    assert pulled.scalars["peak_normal"] == pytest.approx(strength * area, rel=0.15)
     k = surface.shear_capacity_ratio
     assert k >= 1.5 and surface.shear_source  # film-backed dry adhesives: several times
     assert sheared.scalars["peak_shear"] >= k * pulled.scalars["peak_normal"]
@@ -206,7 +232,7 @@ def test_lap_shear_rises_with_shear_speed(params):
 def test_dragging_the_foot_forward_low_over_the_pad_costs_a_180_degree_peel(params):
     """Folding the film back over itself is Kendall's 180-degree peel, F = bG/2, not free."""
     drag = waypoints([0.0, 0.1, 1.0], [(0, 0), (0, 0.003), (0.08, 0.003)], [(0, 0), (0, 0), (0, 0)])
-    result = simulate(with_trajectory(bench(params, surface=PLAIN), drag, "drag"))
+    result = simulate(with_trajectory(bench(params, surface=PLAIN, foot=GRIP), drag, "drag"))
     assert result.ok, result.error
     bG = params.selected_robot.platform.film.width * params.selected_surface.fracture_energy
     assert result.scalars["peak_pull"] >= bG / 2

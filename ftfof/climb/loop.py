@@ -46,7 +46,7 @@ CHANNELS = (
     ("joints", JOINTS * LEGS),  # chain angles relative to the trunk
     ("torque", JOINTS * LEGS),
     ("swing", 1),  # the leg whose step it is (swing, landing hold, advance), -1 before the first
-    ("slip_velocity", LEGS),  # each stance pad's velocity along its patch, m/s (0 off the stance)
+    ("slip_velocity", LEGS),  # each stance pad's rate along its patch over the record, m/s
 )
 
 
@@ -108,6 +108,7 @@ class ClimbLoop:
         self.next_control = 0.0
         self.force_columns = channel_slices()["force"]
         self.anchors = Anchors.none()  # the feet the controller holds on the wall, and how
+        self.slip_clock: dict[str, tuple[float, Array]] = {}  # (t, film positions) per reader
 
     def __call__(self, mbs, t: float) -> bool:
         q = self.data.GetODE2Coordinates(copy=False)
@@ -177,7 +178,7 @@ class ClimbLoop:
             q[b + BASE : b + BASE + JOINTS * LEGS].reshape(LEGS, JOINTS),
             self.foot_ref[:, 0] + q[self.feet],
             stance,
-            self._slip_velocity(qd, stance),
+            self._slip_velocity(q, t, stance, "control"),
             self._forces,
         )
         if plan is not None:
@@ -185,11 +186,17 @@ class ClimbLoop:
         self.feedforward[BASE:] = torques.ravel()
         self.mbs.SetObjectParameter(self.r.tree, "jointForceVector", self.feedforward.tolist())
 
-    def _slip_velocity(self, qd: Array, stance: Array) -> Array:
-        """Each stance pad's velocity along its wall patch: its film nodes' mean (the foot above
-        it rocks on its ankle; the pad's nodes are what slide), 0 off the stance."""
-        film = np.array([qd[idx].mean() for idx in self.node_index])
-        return np.where(stance, film - qd[self.patches], 0.0)
+    def _slip_velocity(self, q: Array, t: float, stance: Array, clock: str) -> Array:
+        """Each stance pad's velocity along its wall patch, 0 off the stance: its film nodes' mean
+        position (the foot above it rocks on its ankle; the pad's nodes are what slide) since
+        ``clock``'s last reading. Not the nodes' velocities: on the plate's stiff backing they
+        chatter +-5 mm/s from one solver step to the next while the pad stays within 10 um, and
+        the records, a step apart, read that as a steady slide."""
+        position = np.array([q[idx].mean() for idx in self.node_index]) - q[self.patches]
+        last_t, last = self.slip_clock.get(clock, (t, position))
+        self.slip_clock[clock] = (t, position)
+        rate = (position - last) / (t - last_t) if t > last_t else np.zeros(LEGS)
+        return np.where(stance, rate, 0.0)
 
     def _forces(self, leg: int) -> tuple[Array, Array] | None:
         """The wall's force on ``leg``'s foot over the last ESTIMATE_SAMPLES records: (f_n, f_t),
@@ -284,7 +291,7 @@ class ClimbLoop:
         if swing >= 0:
             curvature[swing] = self._curvature(q, swing)
         plan, _ = self.plan(np.array([t]))
-        slip = self._slip_velocity(qd, stance)
+        slip = self._slip_velocity(q, t, stance, "record")
         self.rows[self.count] = np.concatenate(
             [
                 [t],

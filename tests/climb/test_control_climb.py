@@ -55,17 +55,12 @@ def test_the_qp_drives_the_servos_and_the_robot_climbs_its_step(qp):
 
 
 def test_the_slip_figures_are_the_stance_pads_small_sway_when_nothing_slips(off, qp):
-    """FAILS on the plate foot, from a bug in ftfof/climb (reported, left to the lead): the
-    slip figures integrate each stance pad's film velocity as recorded at 1 kHz
-    (loop._slip_velocity, metrics.stance_travel), and the plate's stance film rings at the
-    solver's step: FL's mean film velocity on its patch alternates +-4.82 mm/s from one 500 us
-    step to the next, and the records, every other step, read it as a steady 4.8 mm/s. Over the
-    polynomial's first step the figures say FL travels 12.3 mm along its patch, FR 3.4-7.0 mm and
-    HR 4.5 mm (peaks 13-30 mm/s, past climb.slip_threshold's 5 mm/s), with all 41 of their bonds
-    intact; the film's mean position on the patch moves 8.8, 9.6 and 6.2 um (integrated at every
-    solver step: 10 um). The fix: the travel from the film's mean position on its patch (its
-    change since the stance began), and the slip speed from that position's change over a record,
-    not a sampled velocity."""
+    """The slip figures come from each stance pad's film position on its patch, differenced over
+    a record (loop._slip_velocity): the plate's stance film rings at the solver's step (FL's mean
+    film velocity alternated +-4.82 mm/s from one 500 us step to the next), and integrating the
+    velocity sampled every other step read that as a steady 4.8 mm/s slide, 12.3 mm of travel
+    over the polynomial's first step with all 41 bonds intact, while the film's mean moved 10 um.
+    A bonded stance pad travels no further than its foot, and nothing slips in one step."""
     c, gait = off.channels, off.gait
     for leg in range(4):  # a bonded stance pad cannot travel further than its foot, + 1 mm
         stance = np.ones(c["t"].size, bool)

@@ -131,7 +131,7 @@ def test_ftfof_calibrate_simulates_the_polynomial_and_the_cycloid_only(monkeypat
 
 
 def _grip(params):
-    """``params`` with the selected robot on the grip foot (the film's first grip_length clamped)."""
+    """``params`` with the selected robot on the grip foot (its film clamped at the heel)."""
     data = params.model_dump()
     foot = data["robots"][data["robot"]]["platform"]["foot"]
     foot.update(model="grip", backing=None, ankle_range=None)

@@ -73,7 +73,11 @@ def test_a_one_step_climb_writes_its_channels_imu_metrics_and_traces(tmp_path, p
     assert doc["summary"]["fell"] is False and doc["summary"]["steps_done"] == 1
     (step,) = doc["steps"]
     assert step["release"] == "" and step["jitter"] > 0 and step["peak_pull"] > 1.0
-    assert step["torque"] == "" and 0 < step["torque_ratio"] < 1
+    # a servo past its limit is named with its joint (the plate's first hind peel loads the other
+    # hind hip past its estimated 1.5 N m: decision 0028)
+    assert step["torque_ratio"] > 0
+    assert (step["torque"] == "") == (step["torque_ratio"] <= 1), step["torque"]
+    assert step["torque_ratio"] <= 1 or " needs " in step["torque"]
     assert step["film"] == ""  # the cycloid's first peel keeps fc
     assert (
         step["min_bend_radius"]

@@ -67,8 +67,7 @@ def test_the_optimum_as_csv_carries_its_provenance_and_reaches_its_foot_path(eva
 def test_a_front_row_as_a_ros_joint_trajectory(evaluated, tmp_path):
     work = evaluated[0]
     front = pq.read_table(work / "polish" / "optimize" / "front.parquet").to_pandas()
-    row = int(front.row.iloc[-1])
-    out, params = _export(evaluated, tmp_path, "row.yaml", "ros-yaml", row=row)
+    row, (out, params) = _first_runnable(evaluated, tmp_path, front.row.tolist()[::-1])
     message = yaml.safe_load(out.read_text())
     assert message["joint_names"] == ["q1", "q2", "q3"]
     assert message["header"]["frame_id"].endswith("_foot_start")
@@ -98,3 +97,18 @@ def test_a_row_the_front_lacks_is_refused_and_nothing_written(evaluated, tmp_pat
     result = runner.invoke(app, [*args, "--out", str(tmp_path / "x.csv")])
     assert result.exit_code == 2 and "is not a row of" in result.stderr
     assert not (tmp_path / "x.csv").exists()
+
+
+def _first_runnable(evaluated, tmp_path, rows):
+    """The first of ``rows`` that export takes as a ROS trajectory: the tiny search's front can
+    end on a row past a joint's speed, which export refuses by name."""
+    refused = []
+    for row in rows:
+        try:
+            return int(row), _export(
+                evaluated, tmp_path, f"row{row}.yaml", "ros-yaml", row=int(row)
+            )
+        except AssertionError as err:
+            assert "cannot run it" in str(err), err
+            refused.append(row)
+    raise AssertionError(f"export refused every front row: {refused}")

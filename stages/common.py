@@ -40,7 +40,9 @@ BaselineOption = typer.Option(help="polynomial | cycloidal | random_bezier | eps
 PointsOption = typer.Option(help="12 control values P3x..P12x, P3z..P12z, comma-separated.")
 UnitOption = typer.Option(help="Unit of --points: m or mm.")
 # parallel simulations (acquire, refine, polish, evaluate): refused below 0 before anything runs
-WorkersOption = typer.Option(min=0, help="Override acquire.workers (0: all cores).")
+WorkersOption = typer.Option(
+    min=1, help="Override acquire.workers with a worker count (acquire.workers 0: all cores)."
+)
 
 # what an interrupted command keeps, and where under its --out (by default its catalog path):
 # the resumable ones go on from it when run again

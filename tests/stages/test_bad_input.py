@@ -99,13 +99,14 @@ def test_acquire_refuses_a_limit_below_one(tmp_path):
     assert not (tmp_path / "acq").exists()
 
 
+@pytest.mark.parametrize("workers", [0, -3])
 @pytest.mark.parametrize("command", ["acquire", "refine", "polish", "evaluate"])
-def test_negative_workers_are_refused_before_anything_is_written(tmp_path, command):
-    """acquire.workers 0 means all cores, as --workers 0 does; below that nothing runs (acquire
-    wrote its manifest, then failed in the pool with a raw ValueError)."""
-    args = cli_args(command, PARAMS, workers=-3, out=tmp_path / "out")
+def test_workers_below_one_are_refused_before_anything_is_written(tmp_path, command, workers):
+    """--workers is a count; all cores is acquire.workers 0 in the params (acquire wrote its
+    manifest, then failed in the pool with a raw ValueError)."""
+    args = cli_args(command, PARAMS, workers=workers, out=tmp_path / "out")
     result = runner.invoke(app, [*args, *(["--limit", "2"] if command == "acquire" else [])])
-    said = "Invalid value for '--workers': Input should be greater than or equal to 0"
+    said = "Invalid value for '--workers': Input should be greater than or equal to 1"
     assert result.exit_code == 2 and said in result.output
     assert not list(tmp_path.iterdir())
 

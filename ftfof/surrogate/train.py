@@ -30,6 +30,7 @@ import torch
 from numpy.typing import NDArray
 
 import ftfof.config as config
+from ftfof.surrogate.adam import Adam
 from ftfof.surrogate.dilate import dilate_loss, soft_dtw
 from ftfof.surrogate.model import ForceGRU, ModelConfig
 
@@ -119,7 +120,7 @@ def train_model(
     )
     if warm_start is not None:
         model.load_state_dict({k: torch.as_tensor(np.asarray(v)) for k, v in warm_start.items()})
-    opt = torch.optim.Adam(model.parameters(), lr=settings.lr, weight_decay=settings.weight_decay)
+    opt = Adam(model.parameters(), lr=settings.lr, weight_decay=settings.weight_decay)
     crit = loss_fn(kind, settings, targets)
     xt, yt = torch.tensor(x_train), torch.tensor(y_train)
     xv, yv = torch.tensor(x_val), torch.tensor(y_val)

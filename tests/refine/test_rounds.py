@@ -74,8 +74,10 @@ def test_nominees_are_the_pools_pull_jitter_layers_in_rhs_order():
     assert nominees_of([Measured(np.empty((0, 12)), np.empty((0, 2)), "refine:1")], 3, cfg) is None
 
 
-# five rows of the default robot's paper-scale acquisition, as the simulator wrote them: sampled:1
-# and sampled:156 clean, sampled:0 bent its film to 4.9 mm, sampled:105 shook the body to 2.9 m/s²,
+# five rows of the default robot's paper-scale acquisition on the grip foot, as the simulator wrote
+# them: sampled:1
+# and sampled:156 clean, sampled:0 bent its film to 4.9 mm, sampled:105 shook the body to 2.9 m/s²
+# (within the plate foot's limit),
 # then the polynomial baseline (clean, but no decision row)
 ACQUIRED_ROWS = Path(__file__).parents[1] / "data" / "acquired_rows.parquet"
 
@@ -86,9 +88,14 @@ def test_the_acquisitions_clean_sampled_runs_are_candidates_with_their_objective
     assert points.origin == ACQUIRED
     keys = table.column("key").to_pylist()
     X = table.to_pandas()[list(DECISION_NAMES)].to_numpy(float)
-    np.testing.assert_array_equal(points.X, X[[keys.index("sampled:1"), keys.index("sampled:156")]])
+    # sampled:105's 2.9 m/s2 is within the plate foot's body limit (6.1 m/s2, 1.2x its
+    # polynomial's), so it is a candidate now; sampled:0's bent film is not
+    clean = [keys.index(k) for k in ("sampled:1", "sampled:156", "sampled:105")]
+    np.testing.assert_array_equal(points.X, X[clean])
     # the simulated pull and jitter, the objectives the check would measure (reference values)
-    np.testing.assert_allclose(points.F[:, :2], [[6.968, 1.353], [7.441, 2.140]], atol=2e-3)
+    np.testing.assert_allclose(
+        points.F[:, :2], [[6.968, 1.353], [7.441, 2.140], [8.131, 4.467]], atol=2e-3
+    )
     # a failed run is no candidate either, whatever its channels say
     failed = table.set_column(
         table.schema.get_field_index("status"),

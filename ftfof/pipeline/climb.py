@@ -178,8 +178,8 @@ def compare_controllers(
     ``workers`` (0: all cores) under a progress bar ``label``, each written as
     ``<name>.<controller>.*``; returns and writes ``<name>.controllers.json``: per controller its
     slip_distance, slip_path, max_slip_velocity, fell, fall, steps and what it did;
-    ``<name>.controllers.png``: the changed foot's slip under each (the
-    foot that slipped most under ``none`` without a surface change)."""
+    ``<name>.controllers.png``: the changed foot's slip under each (the foot that slipped most
+    under ``none`` without a surface change)."""
     specs = {
         c: replace(
             spec, name=f"{spec.name}.{c}", climb=spec.climb.model_copy(update={"controller": c})

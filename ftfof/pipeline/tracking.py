@@ -23,8 +23,8 @@ OPTIMIZE_RUN_TAG = "ftfof.optimize_run"  # on an evaluate run: the optimize run 
 # on refine, polish and evaluate runs: the registered model version (models:/<name>/<version>)
 # whose surrogates found the run's optimum
 MODEL_TAG = "ftfof.model"
-# what the experiment is for: MLflow 3's UI opens a model-training experiment on its runs, and
-# one without the tag on its GenAI overview (traces, an assistant)
+# what the experiment is for, as MLflow names it: model training, not a GenAI app. MLflow 3.17's
+# own UI reads its GenAI / Model training switch instead (docs/user-guide.md, MLflow)
 KIND_TAG, KIND = "mlflow.experimentKind", "custom_model_development"
 # the training data's path in the repository
 DATASET_SOURCE = (catalog.path("dataset") / "samples.parquet").as_posix()

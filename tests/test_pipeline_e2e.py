@@ -181,8 +181,10 @@ def test_a_log_of_the_run_estimates_it_and_shows_each_climb_as_it_ends(reproduce
     # on the tiny profile's sizes, not the paper's (9 min at the reference pace)
     expected = whole_run(load_params(repo / "params.yaml"), float(found[1]))
     assert abs(estimate - expected) <= 0.05 * expected + unit, (estimate, expected)
-    # of the right size, though a shared machine's load shifts between acquire and the rest
-    assert seconds / 4 < estimate < 4 * seconds, (estimate, seconds)
+    # of the run's order: the tiny acquire's few seconds of pace are at the mercy of a shared
+    # machine's load (a busy minute there made a 6.7-minute run look like 27), so only a slip
+    # of units or of scale fails here; the unit tests hold the two measured runs exactly
+    assert seconds / 10 < estimate < 10 * seconds, (estimate, seconds)
     assert re.search(r"polish .* left", text)  # its bar's row, with the time left
     ended = r" ([\w.]+): (?:ok|FELL: [^;]+|FAILED: [^;]+); 1 of 1 steps in [\d.]+ s"
     metrics = json.loads((repo / "reports/metrics.json").read_text())

@@ -125,8 +125,7 @@ def backing_stiffness(foot: FootMechanics, pad_area: float) -> float:
 
 def pressed_area(foot: FootMechanics, film: FilmMechanics, pad_length: float) -> float:
     """The pad area a press reaches through the foot: the grip's, or the whole plate's."""
-    length = pad_length if foot.model == "plate" else min(foot.grip_length, pad_length)
-    return length * film.width
+    return (pad_length if foot.model == "plate" else grip_of(foot, pad_length)) * film.width
 
 
 def _stop(angle: Any, foot: FootMechanics) -> Any:

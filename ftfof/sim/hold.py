@@ -22,6 +22,7 @@ from ftfof.sim.model import Platform, build
 from ftfof.sim.padstate import PadTracker
 from ftfof.sim.prestep import press_control
 from ftfof.sim.settings import solver_settings
+from ftfof.sim.slip import min_jerk
 from ftfof.sim.spec import SampleSpec
 from ftfof.trajectory.bezier import Samples
 from ftfof.trajectory.piecewise import PiecewiseQuintic
@@ -73,9 +74,9 @@ class _HoldStep:
         """a by a minimum-jerk press, then on to the pull (a negative press) over the ramp."""
         a = self.p.spec.pre_pressure
         if t < self.pressed:
-            return a * _min_jerk(min(max((t - self.settle) / self.press, 0.0), 1.0))
+            return a * min_jerk(min(max((t - self.settle) / self.press, 0.0), 1.0))
         u = min((t - self.pressed) / (self.loaded - self.pressed), 1.0)
-        return a - (a + self.pull) * _min_jerk(u)
+        return a - (a + self.pull) * min_jerk(u)
 
     def __call__(self, mbs, t: float) -> bool:
         q = self.data.GetODE2Coordinates(copy=False)
@@ -93,10 +94,6 @@ class _HoldStep:
             plate = self.pad.plate_index + 1
             self.tension.append(sensor.stiffness * q[plate] + sensor.damping * qd[plate])
         return bool(np.isfinite(q).all())
-
-
-def _min_jerk(u: float) -> float:
-    return u * u * u * (10 - 15 * u + 6 * u * u)
 
 
 def hold_test(spec: SampleSpec, pull: float, ramp: float, hold: float) -> Hold:

@@ -86,9 +86,9 @@ class _SlipStep:
         a = self.p.spec.pre_pressure
         if t < self.settle + self.press:
             u = min(max((t - self.settle) / self.press, 0.0), 1.0)
-            return a * _min_jerk(u)
+            return a * min_jerk(u)
         u = min((t - self.settle - self.press) / self.hold, 1.0)
-        return a + (self.load - a) * _min_jerk(u)
+        return a + (self.load - a) * min_jerk(u)
 
     def __call__(self, mbs, t: float) -> bool:
         q = self.data.GetODE2Coordinates(copy=False)
@@ -103,7 +103,7 @@ class _SlipStep:
         return bool(np.isfinite(q).all())
 
 
-def _min_jerk(u: float) -> float:
+def min_jerk(u: float) -> float:
     return u * u * u * (10 - 15 * u + 6 * u * u)
 
 

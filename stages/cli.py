@@ -11,7 +11,9 @@ from stages import (
     acquire,
     calibrate,
     climb,
+    climb_table,
     dataset,
+    dvc_yaml,
     evaluate,
     export,
     identify,
@@ -22,6 +24,7 @@ from stages import (
     refine,
     sample,
     simulate,
+    slip,
     slip_test,
     study,
     sweep,
@@ -71,6 +74,8 @@ app.command("train")(train.command)
 app.command("optimize")(optimize.command)
 app.command("refine")(refine.command)
 app.command("polish")(polish.command)
+app.command("climb-table")(climb_table.command)
+app.command("slip")(slip.command)
 app.command("evaluate")(evaluate.command)
 app.command("profile")(profile.command)
 app.command("simulate")(simulate.command)
@@ -81,6 +86,7 @@ app.command("slip-test")(slip_test.command)
 app.command("identify")(identify.command)
 app.command("sweep")(sweep.command)
 app.add_typer(study.app, name="study")
+app.command("dvc-yaml")(dvc_yaml.command)
 
 
 def main() -> None:

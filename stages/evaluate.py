@@ -1,7 +1,9 @@
-"""Stage `evaluate`: re-simulate the optimum, front members and baselines; write the report.
+"""Stage `evaluate`: re-simulate the optimum, front members and baselines on the platform; write
+the report, gathering the climb, slip and study stages' outputs beside its own.
 
 The simulations are a resumable job under ``data/evaluate/`` (:mod:`ftfof.pipeline.evaluate`);
-the Table I analogue and every figure come from them (:mod:`ftfof.evaluate.run`).
+the Table I analogue and the platform's figures come from them (:mod:`ftfof.evaluate.run`). The
+robot's stages are read from their catalog places beside ``--metrics`` and ``--out``.
 """
 
 from __future__ import annotations
@@ -39,11 +41,12 @@ def command(
 ) -> None:
     """Re-simulate the optimum against the common trajectories; report, metrics, export."""
     from ftfof.evaluate.runs import OPTIMUM
-    from ftfof.pipeline.evaluate import Paths, run
+    from ftfof.pipeline.evaluate import Paths, Robot, run
     from ftfof.pipeline.params_file import load_params
 
     params = load_params(params_path)
-    paths = Paths(optimize, models, figures, out, report, metrics, export, refine)
+    robot = Robot.at(metrics.parent, out.parent)  # the climb, slip and study stages' outputs
+    paths = Paths(optimize, models, figures, out, report, metrics, export, refine, robot)
     summary = run(params, paths, workers).summary
     opt = summary["table"][OPTIMUM]
     console.print(

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.imports import ROOT, imported_modules
+from ftfof.pipeline.imports import ROOT, imported_modules
 
 # the unit of a rank: a subpackage of ftfof, a top-level ftfof module, or stages
 RANKS = {

@@ -77,6 +77,15 @@ def decision(inputs: Inputs, row: int) -> np.ndarray:
     return inputs.front.loc[row, list(DECISION_NAMES)].to_numpy(dtype=float)
 
 
+def bezier_rows(ctx: RobotContext, inputs: Inputs) -> dict[str, np.ndarray]:
+    """Table I's Bezier rows by name: the chosen optimum, and the robot's published one where it
+    has one (the rows judged on every rule, :func:`ftfof.evaluate.feasible.admitted`)."""
+    rows = {"optimum": decision(inputs, inputs.optimum["front_row"])}
+    if ctx.robot.published_optimum is not None:
+        rows[table_name(PAPER_OPTIMUM)] = np.asarray(ctx.robot.published_optimum)
+    return rows
+
+
 def checked_on_both_films(
     check: int | None, nodes: int, ctx: RobotContext, table: pd.DataFrame, film: pd.DataFrame
 ) -> FilmCheck | None:

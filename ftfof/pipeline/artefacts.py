@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 import pyarrow.parquet as pq
 
@@ -90,6 +91,16 @@ def check_models(inputs: Inputs, directory: Path, models: Path) -> None:
         raise DataError(str(models), f"no trained models ({run_first(models, 'train')})")
     if inputs.optimum["models_digest"] != models_digest(models):
         raise DataError(str(directory), f"was optimised on other models than {models} (re-run it)")
+
+
+def read_json(path: Path) -> Any:
+    """A stage's JSON report, for the report that gathers it."""
+    if not path.exists():
+        raise DataError(str(path), f"missing ({run_first(path, 'the stage that writes it')})")
+    try:
+        return json.loads(path.read_text())
+    except ValueError as err:
+        raise DataError(str(path), f"unreadable JSON ({err})") from None
 
 
 def read_figure(path: Path) -> str:

@@ -77,8 +77,15 @@ ARTEFACTS: dict[str, Artefact] = {
     "simulate": _a("reports/simulate", "simulation_plots", "simulate"),
     "exports": _a("reports/export", "controller_trajectory", "export"),
     "climbs": _a("reports/climb", "climb", "climb"),
+    "climbs_table": _a("data/climb", "climb", "climb-table"),
+    "climb_table": _a("reports/climb.json", "json", "climb-table"),
+    "climb_summary": _a("reports/summary/climb.json", "json", "climb-table"),
+    "slips": _a("data/slip_comparison", "climb", "slip"),
+    "slip_table": _a("reports/slip.json", "json", "slip"),
+    "slip_summary": _a("reports/summary/slip.json", "json", "slip"),
     "eps_study": _a("reports/eps_study.json", "json", "study eps"),
     "eps_study_figure": _a("reports/eps_study.png", "png", "study eps"),
+    "study_summary": _a("reports/summary/study.json", "json", "study eps"),
 }
 
 # format -> (its writer, its reader), as ``module:function``. The reader is None where no command
@@ -95,7 +102,7 @@ FORMATS: dict[str, tuple[str, str | None]] = {
     "polish_rounds": ("ftfof.pipeline.polish:run", None),
     "refine_report": ("ftfof.files:write_json", "ftfof.pipeline.artefacts:read_refine"),
     "png": ("ftfof.files:save_figure", "ftfof.pipeline.artefacts:read_figure"),
-    "json": ("ftfof.files:write_json", None),
+    "json": ("ftfof.files:write_json", "ftfof.pipeline.artefacts:read_json"),
     "csv": ("ftfof.files:atomic_path", None),
     "html": ("ftfof.files:atomic_path", None),
     "simulation_plots": ("ftfof.files:save_figure", None),
@@ -103,10 +110,11 @@ FORMATS: dict[str, tuple[str, str | None]] = {
     "identified_surface": ("ftfof.pipeline.identify:write_outputs", None),
     "slip_logs": ("ftfof.pipeline.identify:write_log", "ftfof.pipeline.identify:read_log"),
     "controller_trajectory": ("ftfof.evaluate.export:render", None),
-    "climb": ("ftfof.pipeline.climb:write_climb", None),
+    "climb": ("ftfof.pipeline.climb:write_climb", "ftfof.pipeline.artefacts:read_figure"),
 }
 
-# command -> (the artefacts it reads, the artefacts it writes)
+# DVC stage -> (the artefacts it reads, the artefacts it writes); its command is
+# :data:`ftfof.pipeline.dvcfile.STAGES`'s (the stage's name but for climb and study)
 STAGES: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
     "sample": ((), ("trajectories", "sample_metrics", "sample_summary")),
     "acquire": (
@@ -149,9 +157,18 @@ STAGES: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
             "optimize_convergence_figure",
             "train_loss",
             "train_predictions",
+            "climbs_table",
+            "climb_table",
+            "slips",
+            "slip_table",
+            "eps_study",
+            "eps_study_figure",
         ),
         ("evaluate", "report", "export", "metrics", "evaluate_summary"),
     ),
+    "climb": (("polish_optimize",), ("climbs_table", "climb_table", "climb_summary")),
+    "slip": ((), ("slips", "slip_table", "slip_summary")),
+    "study": ((), ("eps_study", "eps_study_figure", "study_summary")),
     "identify": (("slip_logs",), ("identify", "identify_outputs", "identify_summary")),
 }
 

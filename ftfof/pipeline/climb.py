@@ -1,4 +1,5 @@
-"""`ftfof climb`: one trajectory on the climbing robot, its channels, metrics and traces."""
+"""`ftfof climb`: Table I's trajectories and the optimum on the climbing robot (the stage), or one
+trajectory (the tool); each climb's channels, metrics and traces."""
 
 from __future__ import annotations
 
@@ -29,22 +30,48 @@ from ftfof.climb.outcome import (
 from ftfof.climb.simulate import gait_of
 from ftfof.climb.surface import switch_of
 from ftfof.config import Params
-from ftfof.config.stages import SlipScenario, SurfaceChange
 from ftfof.digests import json_sha256
 from ftfof.errors import ParamsError
+from ftfof.evaluate.feasible import admitted, climbable
 from ftfof.evaluate.pick import Source
+from ftfof.evaluate.run import bezier_rows
+from ftfof.evaluate.table import climb_record
 from ftfof.files import atomic_path, save_figure, write_json, write_parquet
-from ftfof.pipeline.bench import bench, context_of
+from ftfof.pipeline.artefacts import read_optimum
+from ftfof.pipeline.bench import baseline_trajectories, bench, context_of
 from ftfof.pipeline.console import console, progress
 from ftfof.pipeline.export import trajectory_of
 from ftfof.pipeline.jobs import MANIFEST, open_resumable, source
+from ftfof.pipeline.summaries import write_metrics
 from ftfof.report.climb_figure import climb_traces, side_view, slip_comparison_figure
 from ftfof.robot import RobotContext
 from ftfof.seeds import seed_for
 from ftfof.sim.spec import BASELINE_SEGMENTS
 from ftfof.trajectory.piecewise import PiecewiseQuintic, Sampled
 
-CLIMBS = "climb"  # evaluate's climbs, inside its simulations' directory
+
+def run_table(
+    params: Params, optimize: Path, out_dir: Path, record: Path, workers: int | None
+) -> dict[str, Any]:
+    """The climb stage: Table I's trajectories the robot can run and the chosen optimum in
+    ``optimize``, each climbed (:func:`climb_all`, under ``out_dir``); writes ``record``, the
+    report's climbing table (:func:`ftfof.evaluate.table.climb_record`): {} where
+    ``evaluate.climb`` is off or the robot has no climber."""
+    ctx = context_of(params)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    climbed: dict[str, Any] = {}
+    if params.evaluate.climb and ctx.robot.climber is not None:
+        inputs = read_optimum(optimize, ctx.name)
+        bezier = bezier_rows(ctx, inputs)
+        baselines = baseline_trajectories(params, ctx)
+        breaks = admitted(ctx, baselines, bezier)
+        runnable, skipped = climbable(ctx, baselines, bezier, breaks)
+        specs = {n: spec_for(params, ctx, n, t, X) for n, (t, X) in runnable.items()}
+        console.print(f"climb: the climbing robot climbs {', '.join(specs)}")
+        pool = params.acquire.workers if workers is None else workers
+        climbed = climb_record(climb_all(params, specs, out_dir, pool), skipped)
+    write_metrics("climb", record, climbed)
+    return climbed
 
 
 def climb_spec(
@@ -197,38 +224,3 @@ def compare_controllers(
     save_figure(figure, out_dir / f"{spec.name}.controllers.png", dpi=90)
     write_json(out_dir / f"{spec.name}.controllers.json", {"slip": table})
     return table
-
-
-def slip_name(scenario: SlipScenario) -> str:
-    """The slip comparison's climb name: its files are ``<name>.<controller>.*`` and
-    ``<name>.controllers.*``."""
-    return f"slip_{scenario.trajectory}"
-
-
-def slip_scenario_spec(
-    params: Params, ctx: RobotContext, trajectory: Sampled
-) -> tuple[ClimbSpec, str]:
-    """``evaluate.slip_scenario``'s climb of ``trajectory`` and its title; a scenario time
-    outside the climb is refused here, before anything runs."""
-    scenario = params.evaluate.slip_scenario
-    change = SurfaceChange(foot=scenario.foot, time=scenario.time, surface=scenario.surface)
-    climb_ = params.climb.model_copy(update={"surface_change": change})
-    params = params.model_copy(update={"climb": climb_})
-    spec = spec_for(params, ctx, slip_name(scenario), trajectory, None, "evaluate.slip_scenario")
-    title = (
-        f"{ctx.name} on {params.surface}: {scenario.trajectory}, {scenario.foot} on"
-        f" {scenario.surface} at {scenario.time:g} s"
-    )
-    return spec, title
-
-
-def slip_comparison(
-    spec: ClimbSpec, title: str, out_dir: Path, workers: int = 0
-) -> dict[str, dict[str, Any]]:
-    """The slip scenario's climb (:func:`slip_scenario_spec`) under each controller
-    (:func:`compare_controllers`, its files in ``out_dir``, ``workers`` as there): per
-    controller its slip_distance, slip_path, max_slip_velocity and fell."""
-    console.print(f"slip comparison: {title}, under each of {', '.join(CONTROLLERS)}")
-    table = compare_controllers(spec, out_dir, title, workers, "slip comparison")
-    keys = ("slip_distance", "slip_path", "max_slip_velocity", "fell")
-    return {controller: {k: row[k] for k in keys} for controller, row in table.items()}

@@ -36,7 +36,7 @@ class Stage:
 
 
 def _climbing_steps(p: Params) -> float:
-    """Evaluate's climbs: six trajectories, and four controllers in the slip comparison."""
+    """The climb and slip stages: six trajectories, and four controllers under slip."""
     return p.climb.steps * (6 + 4 * p.evaluate.slip_comparison) if p.evaluate.climb else 0.0
 
 

@@ -14,28 +14,19 @@ import numpy as np
 import pyarrow.parquet as pq
 
 from ftfof.config import Params
-from ftfof.evaluate.feasible import admitted, climbable
-from ftfof.evaluate.run import Evaluation, Inputs, decision, evaluate, front_sample
-from ftfof.evaluate.runs import PAPER_OPTIMUM, table_name
+from ftfof.evaluate.feasible import admitted
+from ftfof.evaluate.run import Evaluation, Inputs, bezier_rows, evaluate, front_sample
 from ftfof.evaluate.specs import evaluation_specs
-from ftfof.evaluate.table import climb_record
 from ftfof.files import atomic_path
 from ftfof.pipeline import tracking
 from ftfof.pipeline.artefacts import (
     check_models,
     read_figure,
+    read_json,
     read_optimum,
     read_refine,
 )
 from ftfof.pipeline.bench import baseline_trajectories, bench, context_of
-from ftfof.pipeline.climb import (
-    CLIMBS,
-    climb_all,
-    slip_comparison,
-    slip_name,
-    slip_scenario_spec,
-    spec_for,
-)
 from ftfof.pipeline.console import console
 from ftfof.pipeline.jobs import FINAL, Acquisition
 from ftfof.pipeline.registry import model_record, promote
@@ -44,7 +35,6 @@ from ftfof.report import run_metrics
 from ftfof.report.context import STAGE_FIGURES
 from ftfof.robot import RobotContext
 from ftfof.sim.spec import baseline_specs
-from ftfof.study.eps import simulate as eps_study
 from ftfof.trajectory.piecewise import Sampled
 
 
@@ -58,6 +48,32 @@ class Paths:
     metrics: Path
     export: Path
     refine: Path  # reports/refine.json
+    robot: Robot  # what the climb, slip and study stages wrote
+
+
+@dataclass(frozen=True)
+class Robot:
+    """The robot's stages' outputs the report gathers (:mod:`ftfof.pipeline.catalog`)."""
+
+    climbs: Path  # `ftfof climb`'s climbs (the optimum's traces)
+    climb: Path  # its climbing table
+    slips: Path  # `ftfof slip`'s climbs (the comparison's figure)
+    slip: Path  # its table
+    eps: Path  # `ftfof study eps`'s report
+    eps_figure: Path
+
+    @classmethod
+    def at(cls, reports: Path, data: Path) -> Robot:
+        """The catalog's places under ``reports`` and ``data`` (tests use temporary ones)."""
+        from ftfof.pipeline.catalog import DATA, REPORTS, path
+
+        def under(name: str) -> Path:
+            own = path(name)
+            root, base = (reports, REPORTS) if own.is_relative_to(REPORTS) else (data, DATA)
+            return root / own.relative_to(base)
+
+        names = ("climbs_table", "climb_table", "slips", "slip_table", "eps_study")
+        return cls(*(under(n) for n in names), under("eps_study_figure"))
 
 
 def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
@@ -70,14 +86,11 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
     inputs = read_optimum(paths.optimize, ctx.name)
     check_models(inputs, paths.optimize, paths.models)
     baselines = baseline_trajectories(params, ctx)  # simulated, and judged by the robot's rules
-    scenario = params.evaluate.slip_scenario
-    slip = None  # the slip comparison's climb, checked before anything runs
-    if params.evaluate.slip_comparison and ctx.robot.climber is not None:
-        slip = slip_scenario_spec(params, ctx, baselines[scenario.trajectory])
     with _tracked(params, inputs) as mlflow:  # open while it works: the run spans it
         surrogate = load_surrogate(paths.models)
         pictures = {key: read_figure(paths.figures / key) for key, _ in STAGE_FIGURES}
         rounds = read_refine(paths.refine)
+        robot = gathered(paths.robot)  # the robot's stages, read before anything runs
         front_rows = front_sample(inputs, params.evaluate.front_points)
         job = _job(params, ctx, paths.out, inputs, front_rows, baselines)
         cfg = params.acquire
@@ -93,9 +106,7 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
         wall = job.simulate(todo, pool, cfg.scheduler, "evaluate")
         job.finish(wall, len(todo))
         simulations = pq.read_table(job.out / FINAL).to_pandas()
-        bezier = {"optimum": decision(inputs, inputs.optimum["front_row"])}
-        if ctx.robot.published_optimum is not None:
-            bezier[table_name(PAPER_OPTIMUM)] = np.asarray(ctx.robot.published_optimum)
+        bezier = bezier_rows(ctx, inputs)
         breaks = admitted(ctx, baselines, bezier)
         result = evaluate(
             params.evaluate,
@@ -107,15 +118,7 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
             surrogate,
             breaks,
         )
-        climbed = _climbs(params, ctx, paths.out, baselines, bezier, breaks, workers)
-        result.summary["climb"] = climbed
-        figures = _climb_figures(paths.out, climbed)
-        if slip is not None:
-            out = paths.out / CLIMBS / "slip"
-            result.summary["slip"] = slip_comparison(*slip, out, pool)
-            figures["slip"] = read_figure(out / f"{slip_name(scenario)}.controllers.png")
-        eps = eps_study(bench(params, ctx), baselines["eps_bezier"], params.study.eps, pool)
-        result.summary["eps_study"] = eps.report()
+        result.summary.update(robot.summary)
         html = evaluation_page(
             result,
             ctx,
@@ -123,11 +126,10 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
             params.surface,
             params.climb.steps,
             pictures,
-            figures,
-            eps,
+            robot.figures,
             str(paths.export),
             rounds,
-            scenario.model_dump(),
+            robot.scenario,
         )
         controller = result.controller
         with atomic_path(paths.export) as tmp:
@@ -142,36 +144,29 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
     return result
 
 
-def _climbs(
-    params: Params,
-    ctx: RobotContext,
-    out: Path,
-    baselines: Mapping[str, Sampled],
-    bezier: Mapping[str, np.ndarray],
-    breaks: Mapping[str, list[str]],
-    workers: int | None,
-) -> dict[str, Any]:
-    """Table I's trajectories on the climbing robot, each one the robot can run
-    (:func:`ftfof.evaluate.feasible.climbable`): per name its climb's summary and fall
-    (:func:`ftfof.evaluate.table.climb_record`)."""
-    if not params.evaluate.climb or ctx.robot.climber is None:
-        return {}
-    runnable, skipped = climbable(ctx, baselines, bezier, breaks)
-    specs = {n: spec_for(params, ctx, n, t, X) for n, (t, X) in runnable.items()}
-    console.print(f"evaluate: the climbing robot climbs {', '.join(specs)}")
-    cfg = params.acquire
-    docs = climb_all(params, specs, out / CLIMBS, cfg.workers if workers is None else workers)
-    return climb_record(docs, skipped)
+@dataclass(frozen=True)
+class Gathered:
+    summary: dict[str, Any]  # climb, slip (where it ran) and eps_study, as metrics.json keeps them
+    figures: dict[str, str]  # the optimum's climb and the slip comparison, as data URIs
+    scenario: dict[str, Any]  # evaluate.slip_scenario as the slip stage ran it
 
 
-def _climb_figures(out: Path, climbed: Mapping[str, Any]) -> dict[str, str]:
-    """The optimum's climb, as traces and from the side, for the report."""
-    if "optimum" not in climbed:
-        return {}
-    return {
-        "climb_traces": read_figure(out / CLIMBS / "optimum.png"),
-        "climb_side": read_figure(out / CLIMBS / "optimum_side.png"),
-    }
+def gathered(at: Robot) -> Gathered:
+    """The climb, slip and study stages' outputs for the report; one missing names the command
+    that writes it."""
+    climb = read_json(at.climb)
+    slip = read_json(at.slip)
+    summary: dict[str, Any] = {"climb": climb}
+    figures = {}
+    if "optimum" in climb:
+        figures["climb_traces"] = read_figure(at.climbs / "optimum.png")
+        figures["climb_side"] = read_figure(at.climbs / "optimum_side.png")
+    if slip["slip"] is not None:
+        summary["slip"] = slip["slip"]
+        figures["slip"] = read_figure(at.slips / slip["figure"])
+    summary["eps_study"] = read_json(at.eps)
+    figures["eps_study"] = read_figure(at.eps_figure)
+    return Gathered(summary, figures, slip["scenario"])
 
 
 def _job(

@@ -7,8 +7,9 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from ftfof.config import Params
-from ftfof.files import save_figure, write_json
+from ftfof.files import save_figure
 from ftfof.pipeline.bench import baseline_trajectories, bench, context_of
+from ftfof.pipeline.summaries import write_metrics
 from ftfof.report.eps_study import eps_figure
 from ftfof.study.eps import EpsPoint, EpsStudy, simulate
 
@@ -20,7 +21,7 @@ def run(
     ``figure``: a failed simulation writes nothing."""
     study = study_of(params, epsilons, workers)
     save_figure(eps_figure(study), figure)
-    write_json(out, study.report())
+    write_metrics("study", out, study.report())
     return study.points
 
 

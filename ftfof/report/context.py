@@ -17,7 +17,6 @@ from ftfof.evaluate.table import COLUMNS, PEAKS, TableRow
 from ftfof.optimize.polish import POLISH
 from ftfof.optimize.select import FRONT
 from ftfof.report.climb import climb_rows
-from ftfof.report.eps_study import eps_figure
 from ftfof.report.evaluation import (
     choice_figure,
     fidelity_figure,
@@ -29,7 +28,6 @@ from ftfof.report.html import figure_data_uri, render
 from ftfof.report.summary import GLOSSARY, run_this
 from ftfof.report.summary import tables as summary_tables
 from ftfof.robot import RobotContext
-from ftfof.study.eps import EpsStudy
 
 PARETO = (
     ("optimize_star.png", "Pareto front, star coordinates (cf. FTFOF Fig. 10)"),
@@ -200,15 +198,15 @@ def evaluation_page(
     surface: str,
     climb_steps: int,
     stage_figures: Mapping[str, str],
-    climb_figures: Mapping[str, str],
-    eps: EpsStudy,
+    robot_figures: Mapping[str, str],
     export_path: str,
     rounds: list[dict],
     slip_scenario: Mapping[str, Any],
 ) -> str:
     """The self-contained HTML report: :func:`report_context` with the earlier stages' and the
-    climb's figures (data URIs), the ε study, the export's path, refine's ``rounds`` and the
-    slip comparison's scenario (its table is the summary's ``slip``, where it ran)."""
+    robot's stages' figures (data URIs: the climb, the slip comparison, the ε study), the
+    export's path, refine's ``rounds`` and the slip comparison's scenario (its table is the
+    summary's ``slip``, where it ran)."""
     values = report_context(ev, ctx, inputs, surface, ev.summary["reference"], climb_steps)
     values["eps_study"] = ev.summary["eps_study"]
     slip = ev.summary.get("slip")
@@ -216,8 +214,7 @@ def evaluation_page(
     values["figures"] = {
         **stage_figures,
         **values["figures"],
-        **climb_figures,
-        "eps_study": figure_data_uri(eps_figure(eps)),
+        **robot_figures,
     }
     return render({**values, "export_path": export_path, "refine": rounds})
 

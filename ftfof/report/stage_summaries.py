@@ -157,6 +157,26 @@ def evaluate(report: Report) -> dict[str, Any]:
     return {**out, "optimum": optimum, **_keys(report, "seconds")}
 
 
+def climb(report: Report) -> dict[str, Any]:
+    """Per trajectory climbed, its steps done and its torque ratio (the hip servos' margin)."""
+    rows = {n: r for n, r in report.items() if n != "not_climbed"}
+    return {n: _keys(r, "steps_done", "torque_ratio") for n, r in rows.items()}
+
+
+def slip(report: Report) -> dict[str, Any]:
+    """Per controller, the slid foot's distance and whether the robot fell."""
+    table = report.get("slip") or {}
+    return {c: _keys(row, "slip_distance", "fell") for c, row in table.items()}
+
+
+def study(report: Report) -> dict[str, Any]:
+    """Per ε, the landing's pre-pressure and the detachment's body jitter."""
+    return {
+        f"eps_{p['eps']:g}": _keys(p, "landing_pre_pressure", "detachment_jitter")
+        for p in report.get("points", [])
+    }
+
+
 def identify(report: Report) -> dict[str, Any]:
     """The surface and its estimates (Kalman and least squares), with the truth of a simulated
     log; only that it is off when it is."""
@@ -174,6 +194,9 @@ SUMMARIES: dict[str, Callable[[Report], dict[str, Any]]] = {
     "optimize": optimize,
     "refine": refine,
     "polish": polish,
+    "climb": climb,
+    "slip": slip,
+    "study": study,
     "evaluate": evaluate,
     "identify": identify,
 }

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from ftfof.pipeline import catalog
+from ftfof.pipeline import catalog, dvcfile
 
 ROOT = Path(__file__).resolve().parents[2]
 STAGES = yaml.safe_load((ROOT / "dvc.yaml").read_text())["stages"]
@@ -32,7 +32,7 @@ def test_dvc_deps_and_outs_are_the_catalogs(stage: str):
     assert data_deps == {catalog.tracked(n).as_posix() for n in reads}
     outs = _paths(spec.get("outs")) | _paths(spec.get("metrics")) | _paths(spec.get("plots"))
     assert outs == {catalog.path(n).as_posix() for n in writes}
-    assert all(catalog.ARTEFACTS[n].writer == stage for n in writes)
+    assert all(catalog.ARTEFACTS[n].writer == dvcfile.STAGES[stage].command for n in writes)
 
 
 def test_every_artefact_a_stage_reads_is_written_by_a_command():
@@ -40,7 +40,8 @@ def test_every_artefact_a_stage_reads_is_written_by_a_command():
     assert read <= set(catalog.ARTEFACTS)
     written = {n for _, writes in catalog.STAGES.values() for n in writes}
     parts = {n for n, a in catalog.ARTEFACTS.items() if a.part_of in written}
-    outside = {n for n, a in catalog.ARTEFACTS.items() if a.writer not in catalog.STAGES}
+    commands = {s.command for s in dvcfile.STAGES.values()}
+    outside = {n for n, a in catalog.ARTEFACTS.items() if a.writer not in commands}
     assert read <= written | parts | outside
 
 

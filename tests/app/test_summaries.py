@@ -24,6 +24,9 @@ FULL = {  # stage -> its full report in the catalog
     "optimize": "optimize_metrics",
     "refine": "refine_report",
     "polish": "polish_report",
+    "climb": "climb_table",
+    "slip": "slip_table",
+    "study": "eps_study",
     "evaluate": "metrics",
     "identify": "identify",
 }

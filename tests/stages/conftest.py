@@ -1,5 +1,5 @@
-"""Fixtures shared by the stage tests: an optimised, refined (no rounds), polished and evaluated
-tiny run."""
+"""Fixtures shared by the stage tests: an optimised, refined (no rounds), polished, climbed and
+evaluated tiny run."""
 
 import copy
 import shutil
@@ -68,6 +68,15 @@ def evaluated(refined_tiny):
         metrics=work / "metrics.json",
         export=work / "optimum.csv",
     )
+    for robot_stage in (
+        cli_args("climb-table", params, optimize=work / "polish" / "optimize", out=work / "climb",
+                 record=work / "climb.json"),
+        cli_args("slip", params, out=work / "slip_comparison", record=work / "slip.json"),
+        ["study", *cli_args("eps", params, report=work / "eps_study.json",
+                            figure=work / "eps_study.png")],
+    ):  # fmt: skip
+        result = runner.invoke(app, robot_stage, env=env)
+        assert result.exit_code == 0, result.output
     result = runner.invoke(app, evaluate, env=env)
     assert result.exit_code == 0, result.output
     return work, env["MLFLOW_TRACKING_URI"], data, evaluate

@@ -54,7 +54,8 @@ def test_the_climbing_robot_climbs_table_ones_trajectories(evaluated):
         c = climbed[name]
         assert c["steps_done"] == 1 and c["fell"] is False and c["error"] == ""
         assert 0 < c["jitter"] <= c["jitter_step"] and c["peak_pull"] > 1.0
-    written = {p.name for p in (work / "sims" / "climb").glob("*.json")}
+    assert json.loads((work / "climb.json").read_text()) == climbed  # the climb stage's table
+    written = {p.name for p in (work / "climb").glob("*.json")}
     assert written == {f"{n}.json" for n in ROWS} | {"manifest.json"}
     html = (work / "report.html").read_text()
     assert "<h2>The climbing robot</h2>" in html and "1 of 1" in html
@@ -70,7 +71,7 @@ def test_the_slip_comparison_is_in_the_metrics_and_the_report(evaluated):
     for row in slip.values():
         assert set(row) == {"slip_distance", "slip_path", "max_slip_velocity", "fell"}
         assert 0 <= row["slip_distance"] <= row["slip_path"] and row["fell"] is False
-    out = work / "sims" / "climb" / "slip"
+    out = work / "slip_comparison"
     assert (out / "slip_eps_bezier.controllers.png").exists()
     assert {p.name for p in out.glob("slip_eps_bezier.*.json")} == {
         f"slip_eps_bezier.{c}.json" for c in [*slip, "controllers"]

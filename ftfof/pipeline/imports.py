@@ -1,12 +1,13 @@
 """The project's imports read from its source (nothing is imported): which project modules a
-file names, and which files importing a module loads."""
+file names, and which files importing a module loads. `ftfof dvc-yaml` takes each stage's code
+dependencies from it; the layering test reads the same graph."""
 
 from __future__ import annotations
 
 import ast
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]  # the checkout: ftfof/ and stages/ beside
 PACKAGES = ("ftfof", "stages")
 
 
@@ -62,3 +63,26 @@ def imported_files(module: str) -> set[Path]:
                 seen.add(path)
                 todo.extend(imported_modules(path))
     return seen
+
+
+def command_modules(cli: Path | None = None) -> dict[str, str]:
+    """Sub-command name -> the stages module that defines it, read from ``stages/cli.py``: the
+    ``app.command("name")(module.command)`` lines, and ``app.add_typer(module.app, name=...)``
+    for a command group (its sub-commands live in that module)."""
+    out = {}
+    for node in ast.walk(ast.parse((cli or ROOT / "stages/cli.py").read_text())):
+        if not isinstance(node, ast.Call) or not node.args:
+            continue
+        target = node.args[0]
+        if not (isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name)):
+            continue
+        module = f"stages.{target.value.id}"
+        if isinstance(node.func, ast.Call) and getattr(node.func.func, "attr", "") == "command":
+            name = node.func.args[0]
+        elif isinstance(node.func, ast.Attribute) and node.func.attr == "add_typer":
+            name = next(k.value for k in node.keywords if k.arg == "name")
+        else:
+            continue
+        assert isinstance(name, ast.Constant)
+        out[name.value] = module
+    return out

@@ -1,0 +1,47 @@
+"""dvc.yaml is written by `ftfof dvc-yaml` (:mod:`ftfof.pipeline.dvcfile`): the committed file is
+what the catalog and the import graph give, and the robot's stages stay in their own rooms."""
+
+from __future__ import annotations
+
+import yaml
+from typer.testing import CliRunner
+
+from ftfof.pipeline.dvcfile import STAGES, code_deps, render
+from ftfof.pipeline.imports import ROOT
+from stages.cli import app
+
+COMMITTED = (ROOT / "dvc.yaml").read_text()
+
+
+def test_the_committed_dvc_yaml_is_the_generated_one():
+    assert render() == COMMITTED, "dvc.yaml drifted: run `ftfof dvc-yaml`"
+
+
+def test_the_check_flag_fails_on_a_drifted_file(tmp_path):
+    drifted = tmp_path / "dvc.yaml"
+    drifted.write_text(COMMITTED.replace("persist: true", "persist: false", 1))
+    result = CliRunner().invoke(app, ["dvc-yaml", "--out", str(drifted), "--check"])
+    assert result.exit_code == 1 and "stale" in result.output
+    result = CliRunner().invoke(app, ["dvc-yaml", "--out", str(drifted)])
+    assert result.exit_code == 0 and drifted.read_text() == COMMITTED
+
+
+def covers(deps: list[str], path: str) -> bool:
+    return any(path == d or path.startswith(d + "/") for d in deps)
+
+
+def test_a_controller_change_stales_climb_and_slip_not_the_platform():
+    """ftfof/climb/control is the climbs' code, and evaluate's platform runs do not import it."""
+    stages = yaml.safe_load(COMMITTED)["stages"]
+    control = "ftfof/climb/control/feedforward.py"
+    stale = {name for name, s in stages.items() if covers(s["deps"], control)}
+    assert stale == {"climb", "slip"}
+
+
+def test_directories_are_listed_only_where_every_source_file_is_imported():
+    """A folded directory is one whose every file the command imports; a sample's deps hold no
+    training code."""
+    deps = code_deps(STAGES["sample"].command)
+    assert "ftfof/trajectory" in deps and not any(d.startswith("ftfof/surrogate") for d in deps)
+    for d in deps:
+        assert (ROOT / d).exists(), d

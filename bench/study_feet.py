@@ -35,8 +35,8 @@ from ftfof.data.targets import full_rate
 from ftfof.errors import DataError
 from ftfof.evaluate.pick import Source
 from ftfof.pipeline.bench import baseline_trajectories, bench, context_of
-from ftfof.pipeline.export import trajectory_of
 from ftfof.pipeline.params_file import load_params
+from ftfof.pipeline.trajectory import trajectory_of
 from ftfof.sim.foot import grip_of
 from ftfof.sim.pad import film_grid
 from ftfof.sim.pool import run_all

@@ -3,19 +3,16 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
 from ftfof.pipeline import catalog
-from stages.common import (
-    BaselineOption,
-    ParamsOption,
-    PointsOption,
-    UnitOption,
-    console,
-    stage,
-)
+from stages.common import ParamsOption, console, stage
+from stages.picking import BaselineOption, PointsOption, UnitOption, source_of
+
+if TYPE_CHECKING:
+    from ftfof.climb.model import ClimbSpec
 
 OPTIMIZE = catalog.path("polish_optimize")
 OUT_DIR = catalog.path("climbs")
@@ -46,41 +43,22 @@ def command(
 ) -> None:
     """Climb the wall with the whole robot (climb.steps swings, one leg at a time), the swinging
     foot on the given trajectory; writes its channels, IMU, per-step metrics and traces."""
-    from ftfof.climb.outcome import CONTROLLERS, ended, run_climb
-    from ftfof.errors import ParamsError
-    from ftfof.evaluate.pick import Source
+    from ftfof.climb.outcome import ended, run_climb
     from ftfof.pipeline.bench import context_of
-    from ftfof.pipeline.climb import climb_spec, write_climb
-    from ftfof.pipeline.climb import compare_controllers as compare
+    from ftfof.pipeline.climb import climb_spec, with_controller, write_climb
     from ftfof.pipeline.params_file import load_params
-    from ftfof.robot import check_points, parse_points
+    from ftfof.robot import check_points
 
-    if sum((baseline is not None, points is not None, row is not None, optimum)) != 1:
-        raise ParamsError("climb", "give exactly one of --baseline, --points, --row, --optimum")
-    params = load_params(params_path)
-    if controller is not None:
-        if controller not in CONTROLLERS:
-            raise ParamsError(
-                "--controller", f"{controller!r} is not one of {', '.join(CONTROLLERS)}"
-            )
-        params = params.model_copy(
-            update={"climb": params.climb.model_copy(update={"controller": controller})}
-        )
-    X = None
-    if points is not None:
-        X = parse_points(points, unit)
-        check_points(X, unit, context_of(params), allow_infeasible)
-    source = Source(row=row, baseline=baseline, points=X)
+    names = "--baseline, --points, --row, --optimum"
+    given = {"baseline": baseline, "points": points, "row": row, "optimum": optimum}
+    source = source_of("climb", names, unit, **given)
+    params = with_controller(load_params(params_path), controller)
+    if source.points is not None:
+        check_points(source.points, source.unit, context_of(params), allow_infeasible)
     name, spec = climb_spec(params, source, optimize, allow_infeasible)
     title = f"{params.robot} on {params.surface}: {name}"
     if compare_controllers:
-        for key, row in compare(spec, out_dir, title, params.acquire.workers).items():
-            fell = f"FELL: {row['fall']}" if row["fell"] else "climbed"
-            console.print(
-                f"  {key:8s} slip {1e3 * row['slip_distance']:7.3f} mm (path"
-                f" {1e3 * row['slip_path']:7.3f} mm), peak {1e3 * row['max_slip_velocity']:7.2f}"
-                f" mm/s, {fell}"
-            )
+        _compare(spec, out_dir, title, params.acquire.workers)
         return
     out = run_climb(spec)
     paths = write_climb(out, out_dir, title)
@@ -91,3 +69,16 @@ def command(
         console.print(f"  {key:16s} {s[key]:10.4g}")
     if out.run.error:
         raise typer.Exit(1)
+
+
+def _compare(spec: ClimbSpec, out_dir: Path, title: str, workers: int) -> None:
+    """The climb under each controller, a line each."""
+    from ftfof.pipeline.climb import compare_controllers
+
+    for key, row in compare_controllers(spec, out_dir, title, workers).items():
+        fell = f"FELL: {row['fall']}" if row["fell"] else "climbed"
+        console.print(
+            f"  {key:8s} slip {1e3 * row['slip_distance']:7.3f} mm (path"
+            f" {1e3 * row['slip_path']:7.3f} mm), peak {1e3 * row['max_slip_velocity']:7.2f}"
+            f" mm/s, {fell}"
+        )

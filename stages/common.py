@@ -21,10 +21,7 @@ from ftfof.pipeline import catalog, interrupt
 from ftfof.pipeline.console import console, progress
 
 __all__ = [
-    "BaselineOption",
     "ParamsOption",
-    "PointsOption",
-    "UnitOption",
     "WorkersOption",
     "console",
     "progress",
@@ -35,10 +32,6 @@ P = ParamSpec("P")
 R = TypeVar("R")
 
 ParamsOption = typer.Option("--params", "-p", help="Parameter file.", dir_okay=False)
-# a trajectory named on the command line (simulate, export, climb)
-BaselineOption = typer.Option(help="polynomial | cycloidal | random_bezier | eps_bezier.")
-PointsOption = typer.Option(help="12 control values P3x..P12x, P3z..P12z, comma-separated.")
-UnitOption = typer.Option(help="Unit of --points: m or mm.")
 # parallel simulations (acquire, refine, polish, evaluate): refused below 0 before anything runs
 WorkersOption = typer.Option(
     min=1, help="Override acquire.workers with a worker count (acquire.workers 0: all cores)."

@@ -9,14 +9,8 @@ from typing import Annotated
 import typer
 
 from ftfof.pipeline import catalog
-from stages.common import (
-    BaselineOption,
-    ParamsOption,
-    PointsOption,
-    UnitOption,
-    console,
-    stage,
-)
+from stages.common import ParamsOption, console, stage
+from stages.picking import BaselineOption, PointsOption, UnitOption, source_of
 
 OPTIMIZE = catalog.path("polish_optimize")
 METRICS = catalog.path("metrics")
@@ -51,23 +45,20 @@ def command(
     """Export the optimum, a front row, a baseline or typed points for the robot's controller:
     foot positions and velocities, joint angles and rates, and where the trajectory came from."""
     from ftfof.errors import ParamsError
-    from ftfof.evaluate.pick import Source
     from ftfof.files import atomic_path
     from ftfof.pipeline.bench import context_of
     from ftfof.pipeline.export import export
     from ftfof.pipeline.params_file import load_params
-    from ftfof.robot import check_points, parse_points
+    from ftfof.robot import check_points
 
-    if sum(x is not None for x in (row, baseline, points)) > 1:
-        raise ParamsError("export", "give at most one of --row, --baseline, --points")
+    names = "--row, --baseline, --points"
+    given = {"row": row, "baseline": baseline, "points": points}
+    source = source_of("export", names, unit, required=False, **given)
     if fmt not in SUFFIX:
         raise ParamsError("--format", f"unknown format {fmt!r} (have {', '.join(SUFFIX)})")
     params = load_params(params_path)
-    X = None
-    if points is not None:
-        X = parse_points(points, unit)
-        check_points(X, unit, context_of(params), allow_infeasible=False)
-    source = Source(row=row, baseline=baseline, points=X)
+    if source.points is not None:
+        check_points(source.points, source.unit, context_of(params), allow_infeasible=False)
     hz = params.evaluate.export_rate_hz if rate is None else rate
     exported = export(params, source, hz, fmt, optimize, metrics)
     path = out or OUT_DIR / f"{exported.name}.{SUFFIX[fmt]}"

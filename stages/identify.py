@@ -6,54 +6,53 @@ sets the preset in params.yaml. Without ``--log`` or ``--simulate`` it does what
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
 from ftfof.pipeline.catalog import path
 from stages.common import ParamsOption, console, stage
 
+if TYPE_CHECKING:
+    from ftfof.config import Params
+
 REPORT, FOLDER, LOGS = path("identify"), path("identify_outputs"), path("slip_logs")
+
+
+SurfaceOption = typer.Option(
+    help="The preset the log is of (default identify.surface, else the surface)."
+)
+LogOption = typer.Option(help="A slip log (CSV: t, Fx, Fz, load).")
+SimulateOption = typer.Option("--simulate", help="Run the slip test on the preset first.")
+CalibrationOption = typer.Option(
+    help="`ftfof calibrate`'s report of this surface: its pull-off strength, with the "
+    "identified shear, sets the preset's shear_capacity_ratio."
+)
+SpeedsOption = typer.Option(
+    help="Two drag speeds, m/s, comma-separated (with --simulate): slip tests at each "
+    "recover the rate law's n and v*, F_adh,0 taken as the preset's."
+)
+IfEnabledOption = typer.Option(
+    "--if-enabled", help="Do nothing but say so when identify.enabled is false."
+)
+WriteOption = typer.Option("--write-params", help="Set the surface's identified values.")
 
 
 @stage
 def command(
-    surface: Annotated[
-        str | None,
-        typer.Option(help="The preset the log is of (default identify.surface, else the surface)."),
-    ] = None,
-    log: Annotated[Path | None, typer.Option(help="A slip log (CSV: t, Fx, Fz, load).")] = None,
-    simulate: Annotated[
-        bool, typer.Option("--simulate", help="Run the slip test on the preset first.")
-    ] = False,
-    calibration: Annotated[
-        Path | None,
-        typer.Option(
-            help="`ftfof calibrate`'s report of this surface: its pull-off strength, with the "
-            "identified shear, sets the preset's shear_capacity_ratio."
-        ),
-    ] = None,
-    speeds: Annotated[
-        str | None,
-        typer.Option(
-            help="Two drag speeds, m/s, comma-separated (with --simulate): slip tests at each "
-            "recover the rate law's n and v*, F_adh,0 taken as the preset's."
-        ),
-    ] = None,
-    if_enabled: Annotated[
-        bool,
-        typer.Option("--if-enabled", help="Do nothing but say so when identify.enabled is false."),
-    ] = False,
-    write_params: Annotated[
-        bool, typer.Option("--write-params", help="Set the surface's identified values.")
-    ] = False,
+    surface: Annotated[str | None, SurfaceOption] = None,
+    log: Annotated[Path | None, LogOption] = None,
+    simulate: Annotated[bool, SimulateOption] = False,
+    calibration: Annotated[Path | None, CalibrationOption] = None,
+    speeds: Annotated[str | None, SpeedsOption] = None,
+    if_enabled: Annotated[bool, IfEnabledOption] = False,
+    write_params: Annotated[bool, WriteOption] = False,
     params_path: Annotated[Path, ParamsOption] = Path("params.yaml"),
     report: Annotated[Path, typer.Option(help="The JSON report.")] = REPORT,
     folder: Annotated[Path, typer.Option(help="For the plot and the preset block.")] = FOLDER,
 ) -> None:
     """Estimate mu and F_adh (least squares and the Kalman-like estimator); a bad log stops
     before anything is written, naming file, row and column."""
-    from ftfof.errors import ParamsError
     from ftfof.identify import fit
     from ftfof.identify.estimate import Estimate
     from ftfof.pipeline import identify as ident
@@ -61,22 +60,13 @@ def command(
     from ftfof.report.identify import convergence_figure
 
     params = load_params(params_path)
-    settings = params.identify
     paths = ident.IdentifyPaths(report, folder)
-    if if_enabled and not settings.enabled:
+    if if_enabled and not params.identify.enabled:
         ident.write_off(paths)
         console.print("identify: off (identify.enabled is false)")
         return
-    if simulate and log is not None:
-        raise ParamsError("identify", "give --log PATH or --simulate, not both")
-    drag_speeds = fit.parse_speeds(speeds) if speeds is not None else None
-    if drag_speeds is not None and not simulate:
-        raise ParamsError("--speeds", "runs simulated slip tests: give it with --simulate")
-    if not simulate and log is None and settings.log is not None:
-        log = Path(settings.log)
-        if not log.is_relative_to(LOGS):
-            raise ParamsError("identify.log", f"{log} is not under {LOGS} (the stage's input)")
-    name = surface or settings.surface or params.surface
+    log, drag_speeds = _inputs(params, log, simulate, speeds)
+    name = surface or params.identify.surface or params.surface
     slip = ident.read_log(log) if log is not None else ident.simulate_slip(params, name)
     ls, track = fit.identify(slip)
     true = ident.truth(params, name) if log is None else None
@@ -97,3 +87,23 @@ def command(
         f"F_adh = {track.final.adhesion:.3f} N per pad (least squares {ls.adhesion:.3f}), "
         f"F_adh,0 = {static.adhesion:.3f} N; preset block in {paths.preset}"
     )
+
+
+def _inputs(
+    params: Params, log: Path | None, simulate: bool, speeds: str | None
+) -> tuple[Path | None, list[float] | None]:
+    """The log to read (None: simulate the slip test; identify.log where no option names one)
+    and the drag speeds, checked against each other."""
+    from ftfof.errors import ParamsError
+    from ftfof.identify import fit
+
+    if simulate and log is not None:
+        raise ParamsError("identify", "give --log PATH or --simulate, not both")
+    drag_speeds = fit.parse_speeds(speeds) if speeds is not None else None
+    if drag_speeds is not None and not simulate:
+        raise ParamsError("--speeds", "runs simulated slip tests: give it with --simulate")
+    if not simulate and log is None and params.identify.log is not None:
+        log = Path(params.identify.log)
+        if not log.is_relative_to(LOGS):
+            raise ParamsError("identify.log", f"{log} is not under {LOGS} (the stage's input)")
+    return log, drag_speeds

@@ -24,14 +24,10 @@ def command(
     metrics: Annotated[Path, typer.Option(help="Summary metrics JSON.")] = METRICS,
 ) -> None:
     """Sample n climbable trajectories (scrambled Sobol or LHS over the rule-shaped region)."""
-    import numpy as np
-    import pyarrow as pa
-
-    from ftfof.data.schema import TRAJECTORIES
+    from ftfof.data.sampled import sample_report, trajectory_table
     from ftfof.pipeline.bench import context_of
     from ftfof.pipeline.params_file import load_params
     from ftfof.seeds import seed_for
-    from ftfof.trajectory.bezier import DECISION_NAMES
     from ftfof.trajectory.sampling import sample_feasible
 
     params = load_params(params_path)
@@ -49,40 +45,10 @@ def command(
             ctx.policy, cfg.n, seed, cfg.design, cfg.batch, cfg.max_draws, report
         )
     elapsed = time.perf_counter() - started
-    n = len(result.X)
-    timing = ctx.robot.timing
-    columns = {
-        "sample_id": np.arange(n, dtype=np.int64),
-        "robot": [ctx.name] * n,
-        **{name: result.X[:, j] for j, name in enumerate(DECISION_NAMES)},
-        "T1": np.full(n, timing.T1),
-        "T2": np.full(n, timing.T2),
-        "T3": np.full(n, timing.T3),
-        "P15x": np.full(n, ctx.policy.p15[0]),
-        "P15z": np.full(n, ctx.policy.p15[1]),
-    }
-    table = pa.Table.from_pydict(columns, schema=TRAJECTORIES)
-    write_parquet(out, table)
-    summary = {
-        "robot": ctx.name,
-        "samples": n,
-        "draws": result.draws,
-        "acceptance_rate": result.acceptance_rate,  # per draw over the rule-shaped region
-        "box_acceptance_rate": result.box_acceptance,  # estimated, per plain box draw
-        "rejected_by_fine_recheck": result.rejected_by_fine_recheck,
-        "recheck_hz": params.feasibility.recheck_hz,
-        "design": cfg.design,
-        "free_variables": list(ctx.policy.free_names),
-        "rejected_by_constraint": result.rejected_by,
-        "rejected_by_kind": result.rejected_by_kind,
-        # sampled-trajectory rules run only on the draws that pass the control-point rules
-        "evaluated_by_constraint": result.evaluated_by,
-        "pass_fraction_by_constraint": result.pass_fraction,
-        "limits": ctx.limits.summary(),
-        "seconds": round(elapsed, 3),
-    }
-    write_metrics("sample", metrics, summary)
+    write_parquet(out, trajectory_table(ctx, result.X))
+    recheck = params.feasibility.recheck_hz
+    write_metrics("sample", metrics, sample_report(ctx, result, cfg, recheck, elapsed))
     console.print(
-        f"sampled {n} trajectories for {ctx.name} from {result.draws:,} draws "
+        f"sampled {len(result.X)} trajectories for {ctx.name} from {result.draws:,} draws "
         f"(acceptance {result.acceptance_rate:.2e}) -> {out}"
     )

@@ -40,9 +40,9 @@ from ftfof.files import atomic_path, save_figure, write_json, write_parquet
 from ftfof.pipeline.artefacts import read_optimum
 from ftfof.pipeline.bench import baseline_trajectories, bench, context_of
 from ftfof.pipeline.console import console, progress
-from ftfof.pipeline.export import trajectory_of
 from ftfof.pipeline.jobs import MANIFEST, open_resumable, source
 from ftfof.pipeline.summaries import write_metrics
+from ftfof.pipeline.trajectory import trajectory_of
 from ftfof.report.climb_figure import climb_traces, side_view, slip_comparison_figure
 from ftfof.robot import RobotContext
 from ftfof.seeds import seed_for
@@ -72,6 +72,17 @@ def run_table(
         climbed = climb_record(climb_all(params, specs, out_dir, pool), skipped)
     write_metrics("climb", record, climbed)
     return climbed
+
+
+def with_controller(params: Params, controller: str | None) -> Params:
+    """``params`` with ``climb.controller`` set to ``controller`` (None: as they are); a name
+    that is not one of CONTROLLERS is refused."""
+    if controller is None:
+        return params
+    if controller not in CONTROLLERS:
+        raise ParamsError("--controller", f"{controller!r} is not one of {', '.join(CONTROLLERS)}")
+    climb = params.climb.model_copy(update={"controller": controller})
+    return params.model_copy(update={"climb": climb})
 
 
 def climb_spec(

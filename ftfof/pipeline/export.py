@@ -12,10 +12,9 @@ from ftfof.config import Params
 from ftfof.digests import json_sha256
 from ftfof.errors import DataError
 from ftfof.evaluate.export import export_metadata, render, runnable, simulated_figures
-from ftfof.evaluate.pick import Picked, Source, front_row, named_baseline, typed_points
-from ftfof.pipeline.artefacts import POLISH_READS, read_optimum
-from ftfof.pipeline.bench import baseline_trajectories, context_of
-from ftfof.robot import RobotContext
+from ftfof.evaluate.pick import Source
+from ftfof.pipeline.bench import context_of
+from ftfof.pipeline.trajectory import trajectory_of
 
 
 @dataclass(frozen=True)
@@ -37,17 +36,6 @@ def export(
     simulated = _simulated(metrics, name, extra.get("front_row"))
     metadata = export_metadata(ctx, params.surface, name, rate_hz, params_hash, extra, simulated, X)
     return Exported(name, render(out, metadata, fmt), int(out.table.shape[0]))
-
-
-def trajectory_of(params: Params, ctx: RobotContext, source: Source, optimize: Path) -> Picked:
-    """(name, trajectory, decision row or None for an analytic baseline, metadata of where it
-    came from): :mod:`ftfof.evaluate.pick` on this run's baselines or the front in
-    ``optimize``."""
-    if source.baseline is not None:
-        return named_baseline(baseline_trajectories(params, ctx), source.baseline)
-    if source.points is not None:
-        return typed_points(ctx, source.points)
-    return front_row(ctx, read_optimum(optimize, ctx.name, POLISH_READS), source.row, optimize)
 
 
 def _simulated(metrics: Path, name: str, row: int | None) -> dict[str, float] | str:

@@ -50,7 +50,7 @@ from ftfof.climb.surface import PadSwitch, SurfaceSwitch
 from ftfof.sim.bonds import BondLaw
 from ftfof.sim.foot import ankle_joint_law, free_span_start, grip_of
 from ftfof.sim.joint_leg import ATTACH_DAMPING, ATTACH_STIFFNESS, SERVO_LINK_MASS, tree_node
-from ftfof.sim.pad import add_bonds, add_film, film_grid
+from ftfof.sim.pad import FilmGrid, add_bonds, add_film, film_grid
 from ftfof.sim.padstate import PadParts
 from ftfof.trajectory.piecewise import PiecewiseQuintic
 
@@ -125,98 +125,21 @@ def fore_foot_demand(robot: config.Robot) -> float:
 
 def build(spec: ClimbSpec, chain: SagittalChain, gait: Gait, law: BondLaw) -> Climber:
     """Assemble the robot standing on the wall with every pad bonded (not yet solved)."""
-    robot = spec.robot
-    climber = robot.climber
-    assert climber is not None
-    mech = robot.platform
-    film, foot = mech.film, mech.foot
-    sensor = spec.platform.sensor
-    pad = robot.foot.pad_length
-    grip = grip_of(foot, pad)
-    grid = film_grid(pad, spec.solver.nodes, film.width, grip, spec.solver.edge_element)
-    x_ref, area = grid.x_ref, grid.area
+    foot = spec.robot.platform.foot
+    grid = _film_grid(spec)
     sc = exu.SystemContainer()
     mbs = sc.AddSystem()
-    gravity = (-config.GRAVITY, 0.0)
     ground = mbs.AddNode(NodePointGround())
     g0 = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=ground, coordinate=0))
-
     feet_x = gait.initial_feet()
-    hip_z = float(chain.hip[1])
-    q0 = np.zeros(BASE + LEGS * JOINTS)
-    theta0 = chain.leg.inverse(np.stack([feet_x - gait.hips + chain.hip[0], np.zeros(LEGS)], 1))
-    if not np.all(np.isfinite(theta0)):
-        raise ValueError("a foot's start is outside its leg's reach")
-    q0[BASE:] = theta0.ravel()
-    tree, tree_node = _tree(mbs, spec, chain, gait, q0, hip_z)
-
-    pads, feet, springs = [], [], []
-    initial_pressure = robot.pre_pressure / float(area.sum())
-    mount = climber.foot_mount_stiffness
-    keep = []
-    for leg in range(LEGS):
-        xf = float(feet_x[leg])
-        patch = mbs.AddNode(NodePoint2D(referenceCoordinates=[xf, 0.0]))
-        mbs.AddObject(MassPoint2D(nodeNumber=patch, mass=sensor.plate_mass))
-        spring = tuple(
-            mbs.AddObject(
-                CoordinateSpringDamper(
-                    markerNumbers=[
-                        g0,
-                        mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=patch, coordinate=i)),
-                    ],
-                    stiffness=sensor.stiffness,
-                    damping=sensor.damping,
-                )
-            )
-            for i in (0, 1)
-        )
-        foot_node = mbs.AddNode(NodeRigidBody2D(referenceCoordinates=[xf, foot.ankle_height, 0]))
-        foot_body = mbs.AddObject(
-            ObjectRigidBody2D(nodeNumber=foot_node, mass=foot.mass, inertia=foot.inertia)
-        )
-        mbs.AddLoad(
-            LoadMassProportional(
-                markerNumber=mbs.AddMarker(MarkerBodyMass(bodyNumber=foot_body)),
-                loadVector=[*gravity, 0.0],
-            )
-        )
-        nodes, elements, stop = add_film(
-            mbs, film, grid, foot_body, foot, origin=xf, gravity=gravity
-        )
-        kx = mount.x if mount else ATTACH_STIFFNESS
-        kz = mount.z if mount else ATTACH_STIFFNESS
-        ankle = mbs.AddObject(
-            ObjectConnectorRigidBodySpringDamper(
-                markerNumbers=[
-                    mbs.AddMarker(
-                        MarkerKinematicTreeRigid(
-                            objectNumber=tree,
-                            linkNumber=BASE + leg * JOINTS + 2,
-                            localPosition=[0.0, 0.0, 0.0],
-                        )
-                    ),
-                    mbs.AddMarker(MarkerNodeRigid(nodeNumber=foot_node)),
-                ],
-                stiffness=np.diag([kx, kz, ATTACH_STIFFNESS, 0, 0, foot.ankle_stiffness]).tolist(),
-                damping=np.diag([ATTACH_DAMPING] * 3 + [0.0, 0.0, foot.ankle_damping]).tolist(),
-            )
-        )
-        if foot.model == "plate":
-            keep.append(ankle_joint_law(mbs, ankle, foot, robot.ankle_rest_angle))
-        connectors, law_fn = add_bonds(
-            mbs,
-            law,
-            nodes,
-            x_ref,
-            area,
-            initial_pressure,
-            mbs.AddMarker(MarkerNodePosition(nodeNumber=patch)),
-        )
-        keep += [stop, law_fn]
-        pads.append(PadParts(nodes, elements, stop, connectors, patch, x_ref, area))
-        feet.append(foot_node)
-        springs.append(spring)
+    q0 = _start_pose(chain, gait, feet_x)
+    tree, tree_node = _tree(mbs, spec, chain, gait, q0, float(chain.hip[1]))
+    initial_pressure = spec.robot.pre_pressure / float(grid.area.sum())
+    legs = [
+        _leg(mbs, spec, law, grid, (tree, g0), leg, float(feet_x[leg]), initial_pressure)
+        for leg in range(LEGS)
+    ]
+    pads = [pad for pad, _, _, _ in legs]
     switch = None
     if spec.switch is not None:
         other = BondLaw.from_surface(spec.switch.surface, spec.solver.contact_smoothing)
@@ -241,14 +164,121 @@ def build(spec: ClimbSpec, chain: SagittalChain, gait: Gait, law: BondLaw) -> Cl
         tree=tree,
         tree_node=tree_node,
         pads=pads,
-        feet=feet,
-        patch_springs=springs,
-        clamp_edge=free_span_start(foot, x_ref),
+        feet=[foot_node for _, foot_node, _, _ in legs],
+        patch_springs=[spring for _, _, spring, _ in legs],
+        clamp_edge=free_span_start(foot, grid.x_ref),
         imu_sensor=imu,
         initial_pressure=initial_pressure,
         q0=q0,
-        keep=keep,
+        keep=[item for *_, keep in legs for item in keep],
         switch=switch,
+    )
+
+
+def _film_grid(spec: ClimbSpec) -> FilmGrid:
+    """Each pad's film nodes along the pad, held by the foot's grip."""
+    mech = spec.robot.platform
+    pad = spec.robot.foot.pad_length
+    grip = grip_of(mech.foot, pad)
+    return film_grid(pad, spec.solver.nodes, mech.film.width, grip, spec.solver.edge_element)
+
+
+def _start_pose(chain: SagittalChain, gait: Gait, feet_x: np.ndarray) -> np.ndarray:
+    """The tree's initial coordinates: the base at rest, each leg's joints on its foot's start."""
+    q0 = np.zeros(BASE + LEGS * JOINTS)
+    theta0 = chain.leg.inverse(np.stack([feet_x - gait.hips + chain.hip[0], np.zeros(LEGS)], 1))
+    if not np.all(np.isfinite(theta0)):
+        raise ValueError("a foot's start is outside its leg's reach")
+    q0[BASE:] = theta0.ravel()
+    return q0
+
+
+def _leg(
+    mbs: Any,
+    spec: ClimbSpec,
+    law: BondLaw,
+    grid: FilmGrid,
+    anchors: tuple[Any, Any],
+    leg: int,
+    xf: float,
+    initial_pressure: float,
+) -> tuple[PadParts, Any, tuple[Any, Any], list[Any]]:
+    """One leg's wall patch, foot, ankle, film and bonds, its foot at ``xf`` on the wall
+    (``anchors``: the tree and the ground's marker): the pad's parts, the foot node, the patch's
+    sensor springs, and the symbolic functions to keep."""
+    tree, g0 = anchors
+    foot = spec.robot.platform.foot
+    gravity = (-config.GRAVITY, 0.0)
+    patch, springs = _wall_patch(mbs, g0, xf, spec.platform.sensor)
+    foot_node = mbs.AddNode(NodeRigidBody2D(referenceCoordinates=[xf, foot.ankle_height, 0]))
+    foot_body = mbs.AddObject(
+        ObjectRigidBody2D(nodeNumber=foot_node, mass=foot.mass, inertia=foot.inertia)
+    )
+    mbs.AddLoad(
+        LoadMassProportional(
+            markerNumber=mbs.AddMarker(MarkerBodyMass(bodyNumber=foot_body)),
+            loadVector=[*gravity, 0.0],
+        )
+    )
+    film = spec.robot.platform.film
+    nodes, elements, stop = add_film(mbs, film, grid, foot_body, foot, origin=xf, gravity=gravity)
+    keep = []
+    ankle = _ankle(mbs, spec, tree, leg, foot_node)
+    if foot.model == "plate":
+        keep.append(ankle_joint_law(mbs, ankle, foot, spec.robot.ankle_rest_angle))
+    patch_marker = mbs.AddMarker(MarkerNodePosition(nodeNumber=patch))
+    connectors, law_fn = add_bonds(
+        mbs, law, nodes, grid.x_ref, grid.area, initial_pressure, patch_marker
+    )
+    keep += [stop, law_fn]
+    pad = PadParts(nodes, elements, stop, connectors, patch, grid.x_ref, grid.area)
+    return pad, foot_node, springs, keep
+
+
+def _wall_patch(mbs: Any, g0: Any, xf: float, sensor: config.Sensor) -> tuple[Any, tuple[Any, Any]]:
+    """A wall patch at ``xf``: the force sensor's plate on its x and z springs to the ground."""
+    patch = mbs.AddNode(NodePoint2D(referenceCoordinates=[xf, 0.0]))
+    mbs.AddObject(MassPoint2D(nodeNumber=patch, mass=sensor.plate_mass))
+    springs = tuple(
+        mbs.AddObject(
+            CoordinateSpringDamper(
+                markerNumbers=[
+                    g0,
+                    mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=patch, coordinate=i)),
+                ],
+                stiffness=sensor.stiffness,
+                damping=sensor.damping,
+            )
+        )
+        for i in (0, 1)
+    )
+    return patch, springs
+
+
+def _ankle(mbs: Any, spec: ClimbSpec, tree: Any, leg: int, foot_node: Any) -> Any:
+    """The foot on ``leg``'s ankle link: a spring-damper whose rotation is the passive ankle and
+    whose x, z are the foot mount (stiff where the robot has none)."""
+    foot = spec.robot.platform.foot
+    climber = spec.robot.climber
+    assert climber is not None
+    mount = climber.foot_mount_stiffness
+    kx = mount.x if mount else ATTACH_STIFFNESS
+    kz = mount.z if mount else ATTACH_STIFFNESS
+    return mbs.AddObject(
+        ObjectConnectorRigidBodySpringDamper(
+            markerNumbers=[
+                mbs.AddMarker(
+                    MarkerKinematicTreeRigid(
+                        objectNumber=tree,
+                        linkNumber=BASE + leg * JOINTS + 2,
+                        localPosition=[0.0, 0.0, 0.0],
+                    )
+                ),
+                mbs.AddMarker(MarkerNodeRigid(nodeNumber=foot_node)),
+            ],
+            stiffness=np.diag([kx, kz, ATTACH_STIFFNESS, 0, 0, foot.ankle_stiffness]).tolist(),
+            damping=np.diag([ATTACH_DAMPING] * 3 + [0.0, 0.0, foot.ankle_damping]).tolist(),
+        )
     )
 
 

@@ -17,7 +17,7 @@ Planar: Exudyn x is along the wall, Exudyn y is our z (normal to the plate). Ite
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -39,7 +39,7 @@ from exudyn.itemInterface import (
     SensorObject,
 )
 
-from ftfof.config import GRAVITY
+from ftfof.config import GRAVITY, FilmMechanics, FootMechanics
 from ftfof.sim.bonds import BondLaw
 from ftfof.sim.foot import ankle_law, backing_stiffness, free_span_start, grip_of, pressed_area
 from ftfof.sim.pad import add_bonds, add_film, film_grid
@@ -232,9 +232,25 @@ def _series_stiffness(spec: SampleSpec, law: BondLaw, area: np.ndarray) -> float
         m.leg_stiffness.z,
         m.body.mount_stiffness.z,
         spec.platform.sensor.stiffness,
-        law.contact_stiffness * pressed_area(m.foot, m.film, spec.pad_length),
-        backing_stiffness(m.foot, spec.pad_length * m.film.width),
+        *pad_stiffnesses(law, m.foot, m.film, spec.pad_length),
     )
+    return in_series(parts)
+
+
+def pad_stiffnesses(
+    law: BondLaw, foot: FootMechanics, film: FilmMechanics, pad_length: float
+) -> tuple[float, float]:
+    """The pressed pad's contact and its foot's backing (N/m): the press path's part that every
+    foot pressing a pad shares, the platform's and the climbing robot's."""
+    return (
+        law.contact_stiffness * pressed_area(foot, film, pad_length),
+        backing_stiffness(foot, pad_length * film.width),
+    )
+
+
+def in_series(parts: Iterable[float]) -> float:
+    """Springs in series (N/m), summed in the order given: the press loops' gain divides by it,
+    so an order kept keeps their floats."""
     return 1.0 / sum(1.0 / k for k in parts)
 
 

@@ -21,6 +21,7 @@ import exudyn as exu
 import numpy as np
 from numpy.typing import NDArray
 
+from ftfof.config import Sensor
 from ftfof.sim.model import Platform
 from ftfof.sim.padstate import PadTracker
 from ftfof.sim.records import FailureReason
@@ -212,9 +213,25 @@ def press_control(
     action on its error, with the depth that presses ``target`` through the foot as feedforward
     unless something else presses it (the slip test's sled); returns the updated integral (the
     caller keeps it between steps)."""
-    sensor = p.spec.platform.sensor
-    compression = -(sensor.stiffness * q[plate_index + 1] + sensor.damping * qd[plate_index + 1])
     k = p.series_stiffness
-    integral += (target - compression) / k * min(h / PRESS_TIME_CONSTANT, 1.0)
+    integral = press_integral(p.spec.platform.sensor, plate_index, q, qd, h, target, integral, k)
     p.press_depth.SetValue((target / k if feedforward else 0.0) + integral)
     return integral
+
+
+def press_integral(
+    sensor: Sensor,
+    plate_index: int,
+    q: Array,
+    qd: Array,
+    h: float,
+    target: float,
+    integral: float,
+    stiffness: float,
+) -> float:
+    """The press loop's integral after a step of ``h``: the depth (m) that brings the force
+    ``sensor`` under the plate at ``plate_index`` reads to ``target`` (N, compression positive)
+    through a press path of ``stiffness`` (N/m). The platform's press and the climbing robot's
+    landing press share it."""
+    compression = -(sensor.stiffness * q[plate_index + 1] + sensor.damping * qd[plate_index + 1])
+    return integral + (target - compression) / stiffness * min(h / PRESS_TIME_CONSTANT, 1.0)

@@ -104,6 +104,9 @@ class _SlipStep:
 
 
 def min_jerk(u: float) -> float:
+    """The minimum-jerk blend of u in [0, 1], for one time. Not the gait's array blend
+    (:func:`ftfof.climb.gait.min_jerk`): numpy's s**3 and u * u * u differ in the last bit for a
+    quarter of all u, and the slip and hold tests' floats are those of u * u * u."""
     return u * u * u * (10 - 15 * u + 6 * u * u)
 
 

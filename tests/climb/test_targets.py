@@ -1,10 +1,11 @@
-"""The climb loop's pure parts: how an anchored foot's joint target follows the body."""
+"""The joint targets: how an anchored foot's target follows the body; the servos' targets on
+the gait, pressed, and kept where a foot is out of reach."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from ftfof.climb.loop import Anchors, hip_frame
+from ftfof.climb.targets import Anchors, JointTargets, hip_frame
 
 HIP = 0.03
 HIPS = np.array([0.1, 0.1, -0.1, -0.1])
@@ -77,3 +78,54 @@ def test_anchors_are_active_from_an_anchor_until_its_released_shift_has_faded():
     anchors = anchors.step(np.zeros(4, dtype=bool), NO_FADE, -0.003, 0.0)
     assert not anchors.active
     np.testing.assert_array_equal(anchors.shift, Anchors.none().shift)
+
+
+def _targets(params):
+    """Joint targets on the params' robot and gait (no Exudyn system: the targets need none)."""
+    from types import SimpleNamespace
+
+    from ftfof.climb.simulate import chain_of, gait_of
+    from tests.climb.helpers import spec_of
+
+    spec = spec_of(params)
+    robot = SimpleNamespace(gait=gait_of(spec), chain=chain_of(spec.robot), q0=np.zeros(15))
+    return JointTargets(robot), robot.gait, robot.chain
+
+
+def test_the_servos_targets_put_each_foot_on_its_gait_target_and_a_press_into_the_wall(params):
+    targets, gait, chain = _targets(params)
+    t = gait.start + 0.5 * gait.swing  # the first swing, the body on its plan at 0
+    press = np.array([0.0, 0.0, 0.0, 4e-4])
+    for pressed in (np.zeros(4), press):
+        assert targets.update(t, (t - gait.start, gait.leg_of(0)), (0.0, 0.0), gait.body,
+                              pressed, None)  # fmt: skip
+        theta = targets.offsets[3:].reshape(4, 3)
+        feet, _ = gait.feet(t)
+        rel, _ = hip_frame(feet, np.zeros((4, 2)), 0.0, 0.0, chain.hip[0], gait.hips)
+        rel[:, 1] -= pressed
+        np.testing.assert_allclose(chain.leg.forward(theta), rel, atol=1e-9)
+    np.testing.assert_array_equal(targets.offsets[:3], 0.0)  # the floating base is not driven
+
+
+def test_a_foot_out_of_reach_keeps_the_last_targets(params):
+    targets, gait, _ = _targets(params)
+    assert targets.update(0.0, (0.0, -1), (0.0, 0.0), gait.body, np.zeros(4), None)
+    kept = targets.offsets.copy(), targets.rates.copy()
+
+    def far(t):
+        return np.full_like(t, 1.0), np.zeros_like(t)  # the body planned a metre up the wall
+
+    assert not targets.update(0.0, (0.0, -1), (0.0, 0.0), far, np.zeros(4), None)
+    np.testing.assert_array_equal(targets.offsets, kept[0])
+    np.testing.assert_array_equal(targets.rates, kept[1])
+
+
+def test_anchored_feet_shift_their_targets_by_the_bodys_error(params):
+    targets, gait, _ = _targets(params)
+    t = gait.start - 0.01  # before any swing: every foot on the wall
+    assert targets.update(t, (0.0, -1), (0.0, 0.0), gait.body, np.zeros(4), FR)
+    start = targets.offsets.copy()
+    assert targets.update(t, (0.0, -1), (-0.002, 0.0), gait.body, np.zeros(4), FR)
+    np.testing.assert_allclose(targets.anchors.shift, [0.0, 0.002, 0.0, 0.0])
+    moved = np.any(targets.offsets != start, axis=None)
+    assert moved and np.array_equal(targets.offsets[3:6], start[3:6])  # FL's target is its own

@@ -42,6 +42,6 @@ def test_directories_are_listed_only_where_every_source_file_is_imported():
     """A folded directory is one whose every file the command imports; a sample's deps hold no
     training code."""
     deps = code_deps(STAGES["sample"].command)
-    assert "ftfof/trajectory" in deps and not any(d.startswith("ftfof/surrogate") for d in deps)
+    assert "ftfof/config" in deps and not any(d.startswith("ftfof/surrogate") for d in deps)
     for d in deps:
         assert (ROOT / d).exists(), d

@@ -23,16 +23,11 @@ from functools import cached_property
 import numpy as np
 from numpy.typing import NDArray
 
+from ftfof.trajectory.blend import min_jerk
 from ftfof.trajectory.piecewise import PiecewiseQuintic
 
 Array = NDArray[np.float64]
 LEGS = 4
-
-
-def min_jerk(s: Array) -> tuple[Array, Array]:
-    """The minimum-jerk blend of s in [0, 1] (clipped) and its derivative d/ds."""
-    s = np.clip(s, 0.0, 1.0)
-    return s**3 * (10 - 15 * s + 6 * s * s), 30 * s * s * (1 - s) ** 2
 
 
 @dataclass(frozen=True)

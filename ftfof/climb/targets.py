@@ -15,8 +15,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ftfof.climb.control.replan import BodyPlan
-from ftfof.climb.gait import LEGS, min_jerk
+from ftfof.climb.gait import LEGS
 from ftfof.climb.model import BASE, Climber
+from ftfof.trajectory.blend import min_jerk
 
 Array = NDArray[np.float64]
 

@@ -22,9 +22,9 @@ from ftfof.sim.model import Platform, build
 from ftfof.sim.padstate import PadTracker
 from ftfof.sim.prestep import press_control
 from ftfof.sim.settings import solver_settings
-from ftfof.sim.slip import min_jerk
 from ftfof.sim.spec import SampleSpec
 from ftfof.trajectory.bezier import Samples
+from ftfof.trajectory.blend import min_jerk
 from ftfof.trajectory.piecewise import PiecewiseQuintic
 
 
@@ -74,9 +74,9 @@ class _HoldStep:
         """a by a minimum-jerk press, then on to the pull (a negative press) over the ramp."""
         a = self.p.spec.pre_pressure
         if t < self.pressed:
-            return a * min_jerk(min(max((t - self.settle) / self.press, 0.0), 1.0))
+            return a * float(min_jerk((t - self.settle) / self.press)[0])
         u = min((t - self.pressed) / (self.loaded - self.pressed), 1.0)
-        return a - (a + self.pull) * min_jerk(u)
+        return a - (a + self.pull) * float(min_jerk(u)[0])
 
     def __call__(self, mbs, t: float) -> bool:
         q = self.data.GetODE2Coordinates(copy=False)

@@ -30,6 +30,7 @@ from ftfof.sim.prestep import press_control
 from ftfof.sim.settings import solver_settings
 from ftfof.sim.spec import SampleSpec
 from ftfof.trajectory.bezier import Samples
+from ftfof.trajectory.blend import min_jerk
 from ftfof.trajectory.piecewise import PiecewiseQuintic
 
 Array = NDArray[np.float64]
@@ -86,9 +87,9 @@ class _SlipStep:
         a = self.p.spec.pre_pressure
         if t < self.settle + self.press:
             u = min(max((t - self.settle) / self.press, 0.0), 1.0)
-            return a * min_jerk(u)
+            return a * float(min_jerk(u)[0])
         u = min((t - self.settle - self.press) / self.hold, 1.0)
-        return a + (self.load - a) * min_jerk(u)
+        return a + (self.load - a) * float(min_jerk(u)[0])
 
     def __call__(self, mbs, t: float) -> bool:
         q = self.data.GetODE2Coordinates(copy=False)
@@ -101,13 +102,6 @@ class _SlipStep:
             self.p, self.pad.plate_index, q, qd, h, target, self.integral, feedforward=False
         )
         return bool(np.isfinite(q).all())
-
-
-def min_jerk(u: float) -> float:
-    """The minimum-jerk blend of u in [0, 1], for one time. Not the gait's array blend
-    (:func:`ftfof.climb.gait.min_jerk`): numpy's s**3 and u * u * u differ in the last bit for a
-    quarter of all u, and the slip and hold tests' floats are those of u * u * u."""
-    return u * u * u * (10 - 15 * u + 6 * u * u)
 
 
 def _sled(p: Platform) -> Any:

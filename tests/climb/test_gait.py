@@ -5,8 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from ftfof.climb.gait import LEGS, Gait, min_jerk
+from ftfof.climb.gait import LEGS, Gait
 from ftfof.climb.simulate import chain_of, gait_of
+from ftfof.trajectory.blend import min_jerk
 from tests.climb.helpers import spec_of
 
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-import ftfof.pipeline.climb as climbs
+import ftfof.pipeline.slip as climbs
 from ftfof.climb.outcome import CONTROLLERS
 from ftfof.climb.surface import SurfaceSwitch
 from ftfof.config import LEG_NAMES

@@ -107,7 +107,7 @@ class FeedForward:
         self.phase = np.zeros(len(self.pads.friction), dtype=bool)  # the stance it belongs to
         # The feet whose servos hold them where they are on the wall, whatever the body does
         # (the loop moves their targets with the body's error from its plan,
-        # :class:`~ftfof.climb.loop.Anchors`): a slipping foot under weight adaptation, from
+        # :class:`~ftfof.climb.targets.Anchors`): a slipping foot under weight adaptation, from
         # its slip until it lifts. On position servos the joint PD, not the QP, sets most of a
         # stance foot's tangential force: it holds the foot on the body, so a pad that cannot
         # carry its share slides with the body's sag on the other feet's films (the slip

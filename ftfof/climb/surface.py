@@ -16,10 +16,12 @@ never see any of it.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
 import ftfof.config as config
+from ftfof.config.stages import SurfaceChange
 from ftfof.errors import ParamsError
 from ftfof.sim import bonds
 from ftfof.sim.pad import bond_law, bond_stiffness
@@ -36,12 +38,14 @@ class SurfaceSwitch:
 
 
 def switch_of(
-    params: config.Params, end: float, key: str = "climb.surface_change"
+    change: SurfaceChange | None,
+    surfaces: Mapping[str, config.Surface],
+    end: float,
+    key: str = "climb.surface_change",
 ) -> SurfaceSwitch | None:
-    """``climb.surface_change`` resolved against its presets, for a climb that ends at ``end``;
-    a switch outside (0, end) is a :class:`ParamsError` naming ``key``, the params entry the
-    change came from (the foot and the preset are checked with the params)."""
-    change = params.climb.surface_change
+    """A surface ``change`` resolved against the ``surfaces`` presets, for a climb that ends at
+    ``end``; a switch outside (0, end) is a :class:`ParamsError` naming ``key``, the params entry
+    the change came from (the foot and the preset are checked with the params)."""
     if change is None:
         return None
     if not 0.0 < change.time < end:
@@ -49,9 +53,7 @@ def switch_of(
             f"{key}.time",
             f"{change.time:g} s is outside the climb, which runs (0, {end:g}) s",
         )
-    return SurfaceSwitch(
-        config.LEG_NAMES.index(change.foot), change.time, params.surfaces[change.surface]
-    )
+    return SurfaceSwitch(config.LEG_NAMES.index(change.foot), change.time, surfaces[change.surface])
 
 
 class PadSwitch:

@@ -4,11 +4,9 @@ trajectory (the tool); each climb's channels, metrics and traces."""
 from __future__ import annotations
 
 import json
-import multiprocessing
 import os
-import signal
 from collections.abc import Iterator
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import as_completed
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
@@ -46,6 +44,7 @@ from ftfof.pipeline.trajectory import trajectory_of
 from ftfof.report.climb_figure import climb_traces, side_view, slip_comparison_figure
 from ftfof.robot import RobotContext
 from ftfof.seeds import seed_for
+from ftfof.sim.pool import fork_pool
 from ftfof.sim.spec import BASELINE_SEGMENTS
 from ftfof.trajectory.piecewise import PiecewiseQuintic, Sampled
 
@@ -124,7 +123,9 @@ def spec_for(
         climb=params.climb,
         seed=seed_for(params.base.seed, "climb"),
     )
-    return replace(spec, switch=switch_of(params, gait_of(spec).end, change_key))
+    change = params.climb.surface_change
+    switch = switch_of(change, params.surfaces, gait_of(spec).end, change_key)
+    return replace(spec, switch=switch)
 
 
 def climb_all(
@@ -160,9 +161,7 @@ def _climbed(
     workers = min(workers or os.cpu_count() or 1, max(len(specs), 1))
     with (
         progress(label) as bar,
-        ProcessPoolExecutor(
-            workers, mp_context=multiprocessing.get_context("fork"), initializer=_ignore_interrupts
-        ) as pool,
+        fork_pool(workers) as pool,
     ):
         total = done + len(specs)
         task = bar.add_task(label, total=total, completed=done, resumed=done, info="")
@@ -177,11 +176,6 @@ def _climbed(
 def read_document(out_dir: Path, name: str) -> dict[str, Any]:
     """A written climb's JSON document."""
     return json.loads((out_dir / f"{name}.json").read_text())
-
-
-def _ignore_interrupts() -> None:
-    """Workers leave Ctrl-C to the parent (as the acquisition's pool does)."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 def write_climb(out: Climbed, out_dir: Path, title: str) -> dict[str, Path]:

@@ -64,8 +64,14 @@ def run_local(
             yield _alone(spec, task)
 
 
-def _context() -> multiprocessing.context.BaseContext:
-    return multiprocessing.get_context(POOL_START)
+def fork_pool(workers: int) -> ProcessPoolExecutor:
+    """A pool of ``workers`` processes forked from this one, leaving Ctrl-C to it: the
+    acquisition's and the climbs' (:func:`ftfof.pipeline.climb.climb_all`)."""
+    return ProcessPoolExecutor(
+        max_workers=workers,
+        mp_context=multiprocessing.get_context(POOL_START),
+        initializer=_leave_interrupts_to_the_parent,
+    )
 
 
 def _leave_interrupts_to_the_parent() -> None:
@@ -81,9 +87,7 @@ def _pool_pass(
     """Run batches off ``queue`` until it is empty or a worker dies; return the specs in flight
     when it died (their results are lost with the pool, and any of them may be the cause)."""
     suspects: list[SampleSpec] = []
-    with ProcessPoolExecutor(
-        max_workers=workers, mp_context=_context(), initializer=_leave_interrupts_to_the_parent
-    ) as pool:
+    with fork_pool(workers) as pool:
         pending: dict[Future[list[SampleResult]], list[SampleSpec]] = {}
 
         def submit(n: int) -> None:
@@ -112,9 +116,7 @@ def _pool_pass(
 
 def _alone(spec: SampleSpec, task: Task) -> list[SampleResult]:
     """``spec`` in a process of its own: a crash there can only be its own."""
-    with ProcessPoolExecutor(
-        max_workers=1, mp_context=_context(), initializer=_leave_interrupts_to_the_parent
-    ) as pool:
+    with fork_pool(1) as pool:
         try:
             return pool.submit(task, [spec]).result()
         except BrokenProcessPool as err:

@@ -26,7 +26,7 @@ class Adaptation(Protocol):
     """What a controller does to its QP weights under slip, one control step at a time."""
 
     # The feet whose servos hold them where they are on the wall, whatever the body does (the
-    # loop moves their targets with the body's error from its plan, ftfof.climb.loop.Anchors).
+    # loop moves their targets with the body's error from its plan, ftfof.climb.targets.Anchors).
     anchored: NDArray[np.bool_]
 
     def weights(

@@ -8,10 +8,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, get_args
+from typing import Any
 
 import numpy as np
 
+from ftfof.climb.control.controllers import COMPOSITIONS
 from ftfof.climb.imu import ImuModel, imu_channels
 from ftfof.climb.legs import stroke_breach
 from ftfof.climb.metrics import (
@@ -26,12 +27,11 @@ from ftfof.climb.metrics import (
 from ftfof.climb.model import ClimbSpec
 from ftfof.climb.simulate import ClimbRun, chain_of, climb
 from ftfof.config import LEG_NAMES
-from ftfof.config.stages import Controller
 from ftfof.errors import ParamsError
 from ftfof.robot import RobotContext
 from ftfof.trajectory.piecewise import Sampled
 
-CONTROLLERS: tuple[str, ...] = get_args(Controller)  # climb.controller's values
+CONTROLLERS: tuple[str, ...] = tuple(COMPOSITIONS)  # climb.controller's values, by name
 
 
 @dataclass

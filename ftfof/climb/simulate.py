@@ -15,9 +15,11 @@ from numpy.typing import NDArray
 
 import ftfof.config as config
 from ftfof.climb.control.com_replan import PlannerReplanner
-from ftfof.climb.control.feedforward import FeedForward, Pads
+from ftfof.climb.control.controllers import compose
+from ftfof.climb.control.feedforward import FeedForward
 from ftfof.climb.control.replan import Replanner
 from ftfof.climb.control.slip import SlipDetector
+from ftfof.climb.control.state import Pads
 from ftfof.climb.gait import LEGS, Gait
 from ftfof.climb.legs import SagittalChain, sagittal_chain
 from ftfof.climb.loop import ClimbLoop, channel_slices
@@ -76,28 +78,30 @@ def gait_of(spec: ClimbSpec) -> Gait:
 
 
 def controller_of(model: Climber, replanner: Replanner) -> FeedForward | None:
-    """The stance feet's force control ``climb.controller`` asks for (None: off). It believes
-    every pad is on the selected surface, pressed to the pre-pressure: F_adh as the bond law
-    gives it (:func:`ftfof.sim.slip.adhesion_truth`, quasi-static), taken as its cone's shift
-    F_adh / mu, and its pull-off (:func:`pull_off_of`)."""
+    """The stance feet's force control ``climb.controller`` asks for (None: off), composed by
+    its name (:func:`~ftfof.climb.control.controllers.compose`; ``replanner`` for the parts that
+    re-plan). It believes every pad is on the selected surface, pressed to the pre-pressure:
+    F_adh as the bond law gives it (:func:`ftfof.sim.slip.adhesion_truth`, quasi-static), taken
+    as its cone's shift F_adh / mu, and its pull-off (:func:`pull_off_of`)."""
     spec = model.spec
-    mode = spec.climb.controller
-    if mode is None:
+    name = spec.climb.controller
+    if name is None:
         return None
     climber = spec.robot.climber
     assert climber is not None
     area = float(model.pads[0].area.sum())
     adhesion = adhesion_truth(model.law, spec.robot.pre_pressure, area) / model.law.friction
     pull_off = pull_off_of(model.law, spec.surface, spec.robot.pre_pressure, area)
+    adaptation, replanning = compose(name, LEGS, replanner)
     return FeedForward(
-        mode=mode,
         chain=model.chain,
         mass=robot_mass(spec.robot),
         inertia=climber.trunk_inertia,
         com_height=float(model.chain.hip[1]),
         pads=Pads(*(np.full(LEGS, v) for v in (model.law.friction, adhesion, pull_off))),
-        replanner=replanner,
         detector=SlipDetector(threshold=spec.climb.slip_threshold, hold=spec.climb.slip_hold),
+        adaptation=adaptation,
+        replanning=replanning,
     )
 
 

@@ -1,6 +1,6 @@
 """The one-step CoM planner as the ``replan`` and ``both`` controllers' re-planner (issue 40).
 
-The crawl's step k maps onto the planner's :class:`~ftfof.climb.control.planner.Step` as:
+The crawl's step k maps onto the planner's :class:`~ftfof.climb.control.com_step.Step` as:
 
 - pre-swing: the previous step's body advance (every foot holds), ``gait.shift`` long;
 - swing: step k's swing and landing hold (``gait.swing + gait.hold``), the stepping leg off the
@@ -28,13 +28,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-from ftfof.climb.control.planner import (
-    ComPlan,
-    Foothold,
-    InfeasibleStepError,
-    Step,
-    replan_swing,
-)
+from ftfof.climb.control.com_step import Foothold, Step
+from ftfof.climb.control.cones import InfeasibleStepError
+from ftfof.climb.control.planner import ComPlan, replan_swing
 from ftfof.climb.control.replan import BodyPlan, ReplanRequest
 from ftfof.climb.gait import Gait
 

@@ -16,86 +16,51 @@ Each control step (CONTROL_RATE_HZ, the force sensor's rate; the torques hold in
    -J^T f alone got about half of f to the wall (issue 40).
 
 The CoM is the trunk's: the legs are a quarter of the mass and sit about the hips, so the
-wrench's moment leaves them out. Controllers:
-
-- ``none``: the QP at the nominal weights and the nominal pads;
-- ``weights``: a stance foot detected slipping (:class:`~ftfof.climb.control.slip.SlipDetector`)
-  gets its weights adapted by its slip rate (climbing_slip §5), the rate held at its highest
-  until the stance changes (§6.3: the paper's weights start anew with each phase), and is
-  anchored (:attr:`FeedForward.anchored`) until it lifts;
-- ``replan``: a foot detected slipping has its pad estimated from its last ESTIMATE_SAMPLES force
-  samples; the estimate replaces the nominal pad in the QP, and goes to the re-planner
-  (:mod:`ftfof.climb.control.replan`), whose plan the loop then tracks;
-- ``both``: the two together.
+wrench's moment leaves them out. What a slip changes is the controller's two parts, composed by
+name in :mod:`ftfof.climb.control.controllers`: its adaptation (the QP weights, and the feet it
+anchors, :attr:`FeedForward.anchored`) and its re-planning (the pads it believes, and the plan).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import astuple, dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
 
+from ftfof.climb.control.adaptation import Adaptation
 from ftfof.climb.control.forces import ForceDistributor, Stance, wrench_map
-from ftfof.climb.control.replan import BodyPlan, Replanner, ReplanRequest
-from ftfof.climb.control.slip import (
-    SlipDetector,
-    adapt_weights,
-    estimate_adhesion,
-    estimate_pad,
-    slip_rate,
-)
+from ftfof.climb.control.replan import BodyPlan
+from ftfof.climb.control.replanning import Replanning
+from ftfof.climb.control.slip import SlipDetector
+from ftfof.climb.control.state import Counts, ForceWindow, Pads, Sensed
 from ftfof.climb.legs import SagittalChain
 from ftfof.config import GRAVITY
-from ftfof.identify.estimate import Estimate
 
 Array = NDArray[np.float64]
 CONTROL_RATE_HZ = 1000.0
 NOMINAL_WEIGHTS = (1.0, 1e-3)  # tangential, normal: the normal far below (climbing_slip §5.2)
-SLIP_SPAN = 0.02  # m/s: the slip rate's scale above the threshold (slip_rate)
 BODY_BANDWIDTH_HZ = 5.0  # the trunk wrench's PD, critically damped
 ESTIMATE_SAMPLES = 15  # force samples per estimate (the Kalman estimator's window)
 FORCE_TIME_CONSTANT = 0.02  # s: the force trim's integral action on the pads' measured forces
 MAX_TRIM = 5.0  # N per force component: the trim's bound (a peeling pad must not wind it up)
 
-# a foot's last ESTIMATE_SAMPLES forces on it (f_n, f_t), or None while there are fewer
-ForceWindow = Callable[[int], tuple[Array, Array] | None]
-
-
-@dataclass(frozen=True)
-class Pads:
-    """Each foot's pad as the controller believes it."""
-
-    friction: Array  # (4,) mu
-    adhesion: Array  # (4,) F_adh, N: the shear capacity seen as normal load
-    pull_off: Array  # (4,) the most each pad holds pulled normal to the wall, N
-
-
-@dataclass
-class Counts:
-    """What the controller did over a climb (the climb's JSON reports it)."""
-
-    solves: int = 0
-    failed: int = 0  # steps whose QP found no answer: no feed-forward for them
-    slips: int = 0  # slips declared (a foot's rising edge)
-    estimates: int = 0  # pads re-estimated
-    replans: int = 0  # new plans the re-planner gave
-
 
 @dataclass
 class FeedForward:
-    """The controller of one climb; :meth:`step` returns the servos' feed-forward torques."""
+    """The controller of one climb, its adaptation and re-planning composed by name
+    (:func:`~ftfof.climb.control.controllers.compose`); :meth:`step` returns the servos'
+    feed-forward torques."""
 
-    mode: str  # none | weights | replan | both
     chain: SagittalChain
     mass: float  # the whole robot's, kg
     inertia: float  # the trunk's pitch inertia, kg m^2
     com_height: float  # the trunk's CoM above the wall at z = 0, m
     pads: Pads
-    replanner: Replanner
     detector: SlipDetector  # climb.slip_threshold and climb.slip_hold
+    adaptation: Adaptation
+    replanning: Replanning
     distributor: ForceDistributor = field(default_factory=ForceDistributor)
     counts: Counts = field(default_factory=Counts)
 
@@ -103,17 +68,11 @@ class FeedForward:
         self.weights = np.tile(NOMINAL_WEIGHTS, (len(self.pads.friction), 1))
         self.believed = Pads(*(np.array(a, dtype=float) for a in astuple(self.pads)))
         self.trim = np.zeros((len(self.pads.friction), 2))
-        self.held_rate = np.zeros(len(self.pads.friction))  # each foot's slip rate held this phase
-        self.phase = np.zeros(len(self.pads.friction), dtype=bool)  # the stance it belongs to
-        # The feet whose servos hold them where they are on the wall, whatever the body does
-        # (the loop moves their targets with the body's error from its plan,
-        # :class:`~ftfof.climb.targets.Anchors`): a slipping foot under weight adaptation, from
-        # its slip until it lifts. On position servos the joint PD, not the QP, sets most of a
-        # stance foot's tangential force: it holds the foot on the body, so a pad that cannot
-        # carry its share slides with the body's sag on the other feet's films (the slip
-        # scenario under `none`: HR's pad 4.5 mm down as the body fell 4.8 mm behind its plan),
-        # and lower QP weights alone changed little (docs/decisions/0023-anchored-slipping-foot.md).
-        self.anchored = np.zeros(len(self.pads.friction), dtype=bool)
+
+    @property
+    def anchored(self) -> NDArray[np.bool_]:
+        """The feet the loop holds where they are on the wall: the adaptation's."""
+        return self.adaptation.anchored
 
     def step(
         self,
@@ -133,15 +92,12 @@ class FeedForward:
         was = self.detector.slipping.copy()
         slipping = self.detector.update(slip_velocity, stance, dt)
         self.counts.slips += int(np.count_nonzero(slipping & ~was))
-        weights = self.weights
-        if self.mode in ("weights", "both"):
-            weights = adapt_weights(weights, self._hold_rate(slip_velocity, slipping, stance))
-            self.anchored = (self.anchored | slipping) & stance
-        new_plan = None
-        if self.mode in ("replan", "both"):
-            for foot in np.flatnonzero(slipping & ~was):
-                new_plan = self._replan(t, int(foot), forces, stance, feet, body, body_rate, plan)
-                plan = new_plan or plan
+        threshold = self.detector.threshold
+        weights = self.adaptation.weights(self.weights, slip_velocity, slipping, stance, threshold)
+        now = Sensed(t, body, body_rate, plan, stance, feet, forces)
+        plan, new_plan = self.replanning.replan(
+            now, np.flatnonzero(slipping & ~was), self.believed, self.counts
+        )
         out = np.zeros((len(stance), 3))
         on = np.flatnonzero(stance)
         wrench = self._wrench(t, body, body_rate, plan) - self._others(stance, body, feet, forces)
@@ -154,19 +110,6 @@ class FeedForward:
         force = result.forces + self._trim(on, result.forces, forces, dt)
         out[on] = -np.einsum("nij,ni->nj", qp.jacobian, force)
         return out, new_plan
-
-    def _hold_rate(self, slip_velocity: Array, slipping: Array, stance: Array) -> Array:
-        """Each foot's slip rate, held at its highest since the stance last changed: the
-        paper's weights stay adapted through the phase once a slip has stopped, and start anew
-        with each phase (climbing_slip §6.3: the weight-only controller slips again at the next
-        phase for that reason)."""
-        stance = np.asarray(stance, dtype=bool)
-        if not np.array_equal(stance, self.phase):
-            self.held_rate = np.zeros_like(self.held_rate)
-            self.phase = stance.copy()
-        rate = slip_rate(slip_velocity, self.detector.threshold, SLIP_SPAN) * slipping
-        self.held_rate = np.maximum(self.held_rate, rate)
-        return self.held_rate
 
     def _trim(self, on: Array, wanted: Array, forces: ForceWindow, dt: float) -> Array:
         """The stance feet's force trims, integrating what the pads miss of the QP's forces.
@@ -227,55 +170,3 @@ class FeedForward:
         return np.array([self.mass * GRAVITY, 0.0, 0.0]) + pd * np.array(
             [self.mass, self.mass, self.inertia]
         )
-
-    def _replan(
-        self,
-        t: float,
-        foot: int,
-        forces: ForceWindow,
-        stance: Array,
-        feet: Array,
-        body: Array,
-        body_rate: Array,
-        plan: BodyPlan,
-    ) -> BodyPlan | None:
-        """Estimate the slipping foot's pad from its last forces, believe it, and ask for a
-        plan (an estimate that stays off the physical range is not believed)."""
-        window = forces(foot)
-        if window is None:
-            return None
-        got = self._estimate(foot, *window)
-        if got is None:
-            return None
-        pads = self.believed
-        pads.pull_off[foot] *= got.adhesion / pads.adhesion[foot]  # both s x strength x area
-        pads.friction[foot], pads.adhesion[foot] = got.mu, got.adhesion
-        self.counts.estimates += 1
-        request = ReplanRequest(
-            t,
-            foot,
-            self.believed.friction.copy(),
-            self.believed.adhesion.copy(),
-            stance.copy(),
-            feet.copy(),
-            body.copy(),
-            body_rate.copy(),
-            plan,
-            self.believed.pull_off.copy(),
-        )
-        new = self.replanner(request)
-        self.counts.replans += new is not None
-        return new
-
-    def _estimate(self, foot: int, fn: Array, ft: Array) -> Estimate | None:
-        """The pad's (mu, F_adh) from a window of its forces. Where the two-parameter fit gives
-        mu <= 0 or F_adh <= 0, the pad is losing its bonds as it slides (a peel under shear, not a
-        slide on a fixed cone); its mu stays believed and only its F_adh, what it still holds, is
-        fitted.
-        None if even that is off the range (F_adh not finite, or <= 0)."""
-        mu = float(self.believed.friction[foot])
-        got = estimate_pad(fn, ft, prior=Estimate(mu, float(self.believed.adhesion[foot])))
-        if math.isfinite(got.mu) and math.isfinite(got.adhesion) and got.mu > 0 < got.adhesion:
-            return got
-        adhesion = estimate_adhesion(fn, ft, mu)
-        return Estimate(mu, adhesion) if math.isfinite(adhesion) and adhesion > 0 else None

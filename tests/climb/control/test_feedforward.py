@@ -1,10 +1,11 @@
-"""The climb's force controller on a still robot: what each mode does when a foot slips."""
+"""The climb's force controller on a still robot: what each composition does when a foot slips."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
+from ftfof.climb.control.controllers import compose
 from ftfof.climb.control.feedforward import (
     CONTROL_RATE_HZ,
     FORCE_TIME_CONSTANT,
@@ -25,14 +26,13 @@ SLIP_HOLD = CLIMB.slip_hold
 SLIDING = np.array([0.0, 0.05, 0.0, 0.0])  # FR slides up its patch at 50 mm/s
 
 
-def _controller(m3f, mode, replanner=lambda request: None):
+def _controller(m3f, name, replanner=lambda request: None):
     robot = m3f.robot
     chain = sagittal_chain(robot.leg, robot.climber.torque_limits, robot.platform.foot.ankle_height)
     pads = Pads(np.full(4, FRICTION), np.full(4, ADHESION), np.full(4, PULL_OFF))
     detector = SlipDetector(threshold=CLIMB.slip_threshold, hold=SLIP_HOLD)
-    controller = FeedForward(
-        mode, chain, MASS, 1e-3, float(chain.hip[1]), pads, replanner, detector
-    )
+    parts = compose(name, 4, replanner)
+    controller = FeedForward(chain, MASS, 1e-3, float(chain.hip[1]), pads, detector, *parts)
     return controller, chain
 
 
@@ -101,15 +101,16 @@ def test_adapted_weights_hold_through_the_phase_after_the_slip_stops_and_reset_w
     controller, chain = _controller(m3f, "weights")
     steps = round(SLIP_HOLD * CONTROL_RATE_HZ) + 2
     _run(controller, chain, SLIDING, steps)
-    rate = controller.held_rate.copy()
+    rate = controller.adaptation.held_rate.copy()
     assert rate[1] > 0 and rate[[0, 2, 3]].sum() == 0
     sliding_torques, _ = _run(controller, chain, np.zeros(4), 1)
-    assert controller.held_rate[1] == rate[1]  # the slide stopped: the weights stay adapted
+    # the slide stopped: the weights stay adapted
+    assert controller.adaptation.held_rate[1] == rate[1]
     nominal, _ = _run(_controller(m3f, "weights")[0], chain, np.zeros(4), 1)
     assert not np.allclose(sliding_torques, nominal)
     lifted = np.array([True, True, True, False])  # HR lifts: a new phase
     _run(controller, chain, np.zeros(4), 1, stance=lifted)
-    assert controller.held_rate.sum() == 0
+    assert controller.adaptation.held_rate.sum() == 0
 
 
 def test_replan_believes_what_a_peeling_pad_still_holds_where_its_mu_fit_is_negative(m3f):
@@ -205,9 +206,9 @@ def test_replan_believes_no_pad_whose_fit_holds_less_than_nothing(m3f):
     assert np.all(controller.believed.adhesion == ADHESION)
 
 
-@pytest.mark.parametrize("mode", ["weights", "both"])
-def test_a_slipping_foot_is_anchored_under_weight_adaptation_until_it_lifts(m3f, mode):
-    controller, chain = _controller(m3f, mode)
+@pytest.mark.parametrize("name", ["weights", "both"])
+def test_a_slipping_foot_is_anchored_under_weight_adaptation_until_it_lifts(m3f, name):
+    controller, chain = _controller(m3f, name)
     steps = round(SLIP_HOLD * CONTROL_RATE_HZ) + 2
     _run(controller, chain, np.zeros(4), steps)
     assert not controller.anchored.any()  # nothing slid
@@ -217,13 +218,13 @@ def test_a_slipping_foot_is_anchored_under_weight_adaptation_until_it_lifts(m3f,
     assert controller.anchored[1]  # the slide stopped: FR is still anchored
     _run(controller, chain, np.zeros(4), 1, stance=np.array([True, True, True, False]))
     assert controller.anchored[1]  # HR lifted, a new phase: FR's weights reset, it stays anchored
-    assert controller.held_rate.sum() == 0
+    assert controller.adaptation.held_rate.sum() == 0
     _run(controller, chain, np.zeros(4), 1, stance=np.array([True, False, True, True]))
     assert not controller.anchored.any()  # FR lifted
 
 
-@pytest.mark.parametrize("mode", ["none", "replan"])
-def test_without_weight_adaptation_no_foot_is_anchored(m3f, mode):
-    controller, chain = _controller(m3f, mode)
+@pytest.mark.parametrize("name", ["none", "replan"])
+def test_without_weight_adaptation_no_foot_is_anchored(m3f, name):
+    controller, chain = _controller(m3f, name)
     _run(controller, chain, SLIDING, round(SLIP_HOLD * CONTROL_RATE_HZ) + 2)
     assert controller.counts.slips == 1 and not controller.anchored.any()

@@ -8,12 +8,10 @@ import dataclasses
 import numpy as np
 import pytest
 
+from ftfof.climb.control.com_step import Foothold, Step
+from ftfof.climb.control.cones import PHASES, InfeasibleStepError
 from ftfof.climb.control.planner import (
-    PHASES,
     ComPlan,
-    Foothold,
-    InfeasibleStepError,
-    Step,
     accel_ratio,
     feasible_interval,
     plan_step,

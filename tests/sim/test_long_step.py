@@ -11,7 +11,8 @@ import pytest
 from pydantic import ValidationError
 
 from ftfof.config.stages import Solver
-from ftfof.sim import bonds, prestep, stepsize
+from ftfof.sim import prestep, stepsize
+from ftfof.sim.idle import IDLE_HEIGHT
 from ftfof.sim.simulate import simulate
 from ftfof.trajectory.baselines import Polynomial
 from tests.sim.helpers import PUBLISHED, bench
@@ -126,7 +127,7 @@ def test_long_steps_only_in_their_phases(params, logged):
     previous = np.flatnonzero(flight) - 1  # the pre-step before decided on its state
     assert np.all(bonded[previous] == 0) and np.all(active[previous] == 0)
     assert np.all(lowest[previous] > stepsize.FLIGHT_HEIGHT)
-    assert np.all(bonded[flight] == 0) and np.all(lowest[flight] > bonds.IDLE_HEIGHT)
+    assert np.all(bonded[flight] == 0) and np.all(lowest[flight] > IDLE_HEIGHT)
     assert math.isclose(t[-1], spec.end_time, abs_tol=1e-9)
     # the pre-step also sees a step Newton fails (the touchdown's): the retry starts again from
     # that step's start, so the clock runs by the steps that were kept

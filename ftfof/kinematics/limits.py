@@ -96,33 +96,26 @@ def _largest_box(F: Array, G: Array) -> int:
     return int(np.argmax(area))
 
 
-def position_reach(leg: Leg, safety_factor: float, seed: int = 0) -> ReachResult:
-    """Ppl by eq. 7."""
-    res = minimize(
-        _PositionReach(leg),
-        NSGA2(pop_size=SEARCH_POP),
-        ("n_gen", SEARCH_GENERATIONS),
-        seed=seed,
-    )
+def _solve(problem: Problem, seed: int) -> tuple[Array, Array]:
+    """NSGA-II on a reach problem, then the point it keeps (:func:`_largest_box`): that point's
+    decision vector and its (x, z) extreme."""
+    res = minimize(problem, NSGA2(pop_size=SEARCH_POP), ("n_gen", SEARCH_GENERATIONS), seed=seed)
     pop = res.pop
     i = _largest_box(pop.get("F"), pop.get("G"))
-    theta = leg.sagittal_angles(pop.get("X")[i])
-    return ReachResult(-pop.get("F")[i], theta, None, safety_factor)
+    return pop.get("X")[i], -pop.get("F")[i]
+
+
+def position_reach(leg: Leg, safety_factor: float, seed: int = 0) -> ReachResult:
+    """Ppl by eq. 7."""
+    X, raw = _solve(_PositionReach(leg), seed)
+    return ReachResult(raw, leg.sagittal_angles(X), None, safety_factor)
 
 
 def velocity_reach(leg: Leg, safety_factor: float, seed: int = 0) -> ReachResult:
     """Vpl by eq. 8: v = J(theta) theta_dot within joint angle and rate limits."""
-    res = minimize(
-        _VelocityReach(leg),
-        NSGA2(pop_size=SEARCH_POP),
-        ("n_gen", SEARCH_GENERATIONS),
-        seed=seed,
-    )
-    pop = res.pop
-    i = _largest_box(pop.get("F"), pop.get("G"))
-    X = pop.get("X")[i]
+    X, raw = _solve(_VelocityReach(leg), seed)
     theta = leg.sagittal_angles(X[:2])
-    return ReachResult(-pop.get("F")[i], theta, leg.sagittal_rates(theta, X[2:]), safety_factor)
+    return ReachResult(raw, theta, leg.sagittal_rates(theta, X[2:]), safety_factor)
 
 
 @dataclass(frozen=True)

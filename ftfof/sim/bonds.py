@@ -43,6 +43,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 import ftfof.config as config
+from ftfof.sim.idle import idle_changes as idle_changes  # callers still say bonds.idle_changes
 
 Array = NDArray[np.float64]
 
@@ -52,9 +53,6 @@ PUSH_STEP = 0.02  # push once a traction would be off by this fraction of its li
 RATE_FILTER = 0.01  # s, time constant of the opening-rate low-pass
 LOADED = 0.05  # the rate factor ramps in over lambda / r in [0, LOADED] (no step in the force)
 STICK_SPEED = 1e-5  # m/s: a node sliding slower sticks and may re-bond (the stiction bound)
-# a broken node this far above the plate (m), and not closing faster than it can cover in
-# IDLE_STEPS steps, has its connector switched off (:func:`idle_changes`)
-IDLE_HEIGHT, IDLE_STEPS = 1.0e-3, 4.0
 
 
 @dataclass(frozen=True)
@@ -269,6 +267,54 @@ def _bond(
     return 0, load
 
 
+@numba.njit
+def _friction(
+    i: int,
+    rel: float,
+    un: float,
+    pressure: float,
+    h: float,
+    law: tuple[float, ...],
+    broken: NDArray[np.bool_],
+    scale: Array,
+    area: Array,
+    slider: Array,
+    pushed: Array,
+) -> tuple[bool, bool]:  # pragma: no cover - compiled
+    """Node i's slider (:func:`_slider`) under the node's compressive force as the connector sees
+    it, the contact plus a pressed bond: (whether it sticks, whether its anchor must be pushed)."""
+    d_t, r, push_step, mu = law[1], law[2], law[6], law[7]
+    p_rebond, k_n, k_t = law[11:]
+    squeeze = 0.0 if broken[i] else scale[i] * k_n * max(-un, 0.0)
+    normal = area[i] * (pressure + squeeze)
+    # a slider may be off by push_step of mu N plus that of its bond's strength (tau = K_t r
+    # d_t), or of a broken node's friction at the re-bond pressure
+    held = mu * p_rebond if broken[i] else scale[i] * k_t * r * d_t
+    floor, kt, slack = push_step * held * area[i], k_t * area[i], STICK_SPEED * h
+    return _slider(i, rel, normal, slider, pushed, mu, kt, push_step, floor, slack)
+
+
+@numba.njit
+def _rebond(
+    i: int,
+    rel: float,
+    pressure: float,
+    p_star: float,
+    anchor: Array,
+    broken: NDArray[np.bool_],
+    history: tuple[Array, Array, Array, Array, Array],
+) -> None:  # pragma: no cover - compiled
+    """A broken node bonds again where it lies, as a fresh bond pressed at ``pressure``."""
+    p_max, rate, scale, opening_rate, opening_max = history
+    broken[i] = False
+    anchor[i] = rel
+    p_max[i] = pressure
+    rate[i] = 1.0
+    opening_rate[i] = 0.0
+    opening_max[i] = 0.0
+    scale[i] = _preload_factor(pressure, p_star)
+
+
 @numba.njit(cache=True)
 def step(
     q: Array,
@@ -296,7 +342,8 @@ def step(
     Returns (pushes, bonded count, lowest film height, largest bond load: the opening lambda / r,
     1 once a bond softens); the last tells the step control how close the next bond failure is.
     """
-    d_t, r, (p_star, push_step, mu, kc, w, hc, p_rebond, k_n, k_t) = law[1], law[2], law[5:]
+    p_star, kc, w, hc, p_rebond = law[5], law[8], law[9], law[10], law[11]
+    history = (p_max, rate, scale, opening_rate, opening_max)
     n_push = n_bonded = 0
     lam_max, lowest = 0.0, np.inf
     xp, zp = q[plate_index], q[plate_index + 1]
@@ -307,19 +354,11 @@ def step(
         un, vn = q[j + 1] - zp, qd[j + 1] - vzp
         lowest = min(lowest, un)
         pressure = _contact_pressure(un, vn, kc, w, hc, _max, _min)
-        # the node's compressive force, as the connector sees it: contact plus a pressed bond
-        squeeze = 0.0 if broken[i] else scale[i] * k_n * max(-un, 0.0)
-        normal = area[i] * (pressure + squeeze)
-        # a slider may be off by push_step of mu N plus that of its bond's strength (tau = K_t r
-        # d_t), or of a broken node's friction at the re-bond pressure
-        held = mu * p_rebond if broken[i] else scale[i] * k_t * r * d_t
-        floor, kt, slack = push_step * held * area[i], k_t * area[i], STICK_SPEED * h
-        sticks, moved = _slider(
-            i, rel, normal, slider, slider_pushed, mu, kt, push_step, floor, slack
+        sticks, moved = _friction(
+            i, rel, un, pressure, h, law, broken, scale, area, slider, slider_pushed
         )
         flags = SLIDE if moved else 0
         if not broken[i]:
-            history = (p_max, rate, scale, opening_rate, opening_max)
             ut, vt = rel - anchor[i], qd[j] - vxp
             change, load = _bond(i, ut, un, vt, vn, pressure, h, law, broken, history)
             flags |= change
@@ -327,13 +366,7 @@ def step(
                 n_bonded += 1
                 lam_max = max(lam_max, load)
         elif pressure > p_rebond and sticks:
-            broken[i] = False
-            anchor[i] = rel
-            p_max[i] = pressure
-            rate[i] = 1.0
-            opening_rate[i] = 0.0
-            opening_max[i] = 0.0
-            scale[i] = _preload_factor(pressure, p_star)
+            _rebond(i, rel, pressure, p_star, anchor, broken, history)
             flags |= REBOND
             n_bonded += 1
         if flags:
@@ -343,40 +376,6 @@ def step(
             kind[n_push] = flags
             n_push += 1
     return n_push, n_bonded, lowest, lam_max
-
-
-@numba.njit(cache=True)
-def idle_changes(
-    q: Array,
-    qd: Array,
-    node_index: NDArray[np.int64],
-    plate_index: int,
-    broken: NDArray[np.bool_],
-    idle: NDArray[np.bool_],
-    h: float,
-    changed: NDArray[np.int64],
-) -> int:  # pragma: no cover - compiled
-    """Mark idle the broken nodes well clear of the plate, wake those that come near; lists the
-    nodes that changed in ``changed`` and returns how many.
-
-    A broken node's connector pulls nothing while the node is above the plate (no bond, no
-    contact: its force is exactly zero), yet the solver evaluates its user function on every
-    Newton iteration; about half a run's cost is the bond connectors. Switching off the idle ones
-    leaves every residual bit for bit as it was, as long as no idle node reaches the plate within
-    a step: hence the height margin and the look-ahead at the node's approach speed.
-    """
-    n_changed = 0
-    zp, vzp = q[plate_index + 1], qd[plate_index + 1]
-    for i in range(node_index.size):
-        j = node_index[i]
-        closing = max(vzp - qd[j + 1], 0.0)
-        clear = q[j + 1] - zp - IDLE_STEPS * closing * h > IDLE_HEIGHT
-        now = broken[i] and clear
-        if now != idle[i]:
-            idle[i] = now
-            changed[n_changed] = i
-            n_changed += 1
-    return n_changed
 
 
 def kernel_law(law: BondLaw, push_step: float = PUSH_STEP) -> tuple[float, ...]:

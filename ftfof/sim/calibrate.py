@@ -102,6 +102,74 @@ def start_value(surface: config.Surface, foot: config.FootMechanics, name: str) 
     return float(getattr(surface, name))
 
 
+class _Scale:
+    """The fit's coordinates: the log of the positive scales, mapped back within the bounds and
+    under the fracture-energy cap."""
+
+    def __init__(self, names: list[str], bounds: dict[str, tuple[float, float]], cap: float | None):
+        self.logs = np.array([n in LOG_SCALED for n in names])
+        self.lo = np.array([bounds[n][0] for n in names], dtype=float)
+        self.hi = np.array([bounds[n][1] for n in names], dtype=float)
+        self.cap = cap
+        self.i_energy = names.index("fracture_energy") if "fracture_energy" in names else None
+
+    def to_x(self, values: np.ndarray) -> np.ndarray:
+        return np.where(self.logs, np.log(values), values)
+
+    def from_x(self, x: np.ndarray) -> np.ndarray:
+        v = np.clip(np.where(self.logs, np.exp(x), x), self.lo, self.hi)
+        if self.i_energy is not None and self.cap is not None:
+            v[self.i_energy] = min(v[self.i_energy], self.cap)
+        return v
+
+    def simplex(self, start: np.ndarray) -> np.ndarray:
+        """Nelder-Mead's first simplex: ``start`` and a step from it along each parameter."""
+        x0 = self.to_x(start)
+        steps = np.where(self.logs, 0.3, 0.15)
+        i = self.i_energy
+        if self.cap is not None and i is not None and start[i] >= self.cap * (1 - AT_BOUND):
+            steps[i] *= -1  # a start on the cap: step below it, or the vertex is the start
+        n = len(steps)
+        return np.vstack([x0] + [x0 + np.eye(n)[k] * steps[k] for k in range(n)])
+
+
+class _Trials:
+    """The fit's cost of a point, each distinct trial simulated once, and the trials' history."""
+
+    def __init__(
+        self,
+        surface: config.Surface,
+        foot: config.FootMechanics,
+        specs_for: SpecsFor,
+        names: list[str],
+        scale: _Scale,
+        workers: int,
+    ):
+        self.surface, self.foot, self.specs_for = surface, foot, specs_for
+        self.names, self.scale, self.workers = names, scale, workers
+        self.history: list[dict[str, float]] = []
+        self.cache: dict[tuple[float, ...], tuple[float, dict]] = {}
+
+    def cost(self, x: np.ndarray) -> float:
+        values = self.scale.from_x(x)
+        key = tuple(np.round(values, 12))
+        if key not in self.cache:
+            named = dict(zip(self.names, map(float, values), strict=True))
+            trial = trial_of(self.surface, self.foot, named)
+            measured = _measure(run_all(self.specs_for(*trial), self.workers))
+            res = np.array(list(_residuals(measured).values()))
+            # Table I is met quantity by quantity: minimise the worst relative error first.
+            cost = float(np.max(np.abs(res)) + 0.1 * np.mean(res**2))
+            self.cache[key] = (cost, measured)
+            self.history.append({**named, "cost": cost})
+        return self.cache[key][0]
+
+    def measured(self, x: np.ndarray) -> dict[str, dict[str, float]]:
+        """What the trial at ``x`` measured (simulated now if it was not yet)."""
+        self.cost(x)
+        return self.cache[tuple(np.round(self.scale.from_x(x), 12))][1]
+
+
 def calibrate(
     surface: config.Surface,
     foot: config.FootMechanics,
@@ -125,64 +193,29 @@ def calibrate(
             "fit strength and/or fracture energy, at most one more surface value and a plate"
             f" foot's backing (got {names or 'none'})"
         )
-    logs = np.array([n in LOG_SCALED for n in names])
-    lo = np.array([bounds[n][0] for n in names], dtype=float)
-    hi = np.array([bounds[n][1] for n in names], dtype=float)
-    i_energy = names.index("fracture_energy") if "fracture_energy" in names else None
-
-    def to_x(values: np.ndarray) -> np.ndarray:
-        return np.where(logs, np.log(values), values)
-
-    def from_x(x: np.ndarray) -> np.ndarray:
-        v = np.clip(np.where(logs, np.exp(x), x), lo, hi)
-        if i_energy is not None and max_fracture_energy is not None:
-            v[i_energy] = min(v[i_energy], max_fracture_energy)
-        return v
-
-    history: list[dict[str, float]] = []
-    cache: dict[tuple[float, ...], tuple[float, dict]] = {}
-
-    def evaluate(x: np.ndarray) -> float:
-        values = from_x(x)
-        key = tuple(np.round(values, 12))
-        if key not in cache:
-            trial = trial_of(surface, foot, dict(zip(names, map(float, values), strict=True)))
-            measured = _measure(run_all(specs_for(*trial), workers))
-            res = np.array(list(_residuals(measured).values()))
-            # Table I is met quantity by quantity: minimise the worst relative error first.
-            cost = float(np.max(np.abs(res)) + 0.1 * np.mean(res**2))
-            cache[key] = (cost, measured)
-            history.append({**dict(zip(names, map(float, values), strict=True)), "cost": cost})
-        return cache[key][0]
-
-    start = from_x(to_x(np.array([start_value(surface, foot, n) for n in names])))
-    x0 = to_x(start)  # the surface's values within the bounds and the cap
-    steps = np.where(logs, 0.3, 0.15)
-    capped = max_fracture_energy is not None and i_energy is not None
-    if capped and start[i_energy] >= max_fracture_energy * (1 - AT_BOUND):
-        steps[i_energy] *= -1  # a start on the cap: step below it, or the vertex is the start
-    simplex = np.vstack([x0] + [x0 + np.eye(len(names))[i] * steps[i] for i in range(len(names))])
+    scale = _Scale(names, bounds, max_fracture_energy)
+    trials = _Trials(surface, foot, specs_for, names, scale, workers)
+    # the surface's values within the bounds and the cap
+    start = scale.from_x(scale.to_x(np.array([start_value(surface, foot, n) for n in names])))
     result = minimize(
-        evaluate,
-        x0,
+        trials.cost,
+        scale.to_x(start),
         method="Nelder-Mead",
         options={
-            "initial_simplex": simplex,
+            "initial_simplex": scale.simplex(start),
             "maxfev": max_evaluations,
             "xatol": 1e-3,
             "fatol": 1e-6,
         },
     )
-    best = from_x(result.x)
-    evaluate(result.x)
-    _, measured = cache[tuple(np.round(best, 12))]
-    values = dict(zip(names, map(float, best), strict=True))
+    values = dict(zip(names, map(float, scale.from_x(result.x)), strict=True))
+    measured = trials.measured(result.x)
     return Calibration(
         values=values,
         residuals=_residuals(measured),
         measured=measured,
-        evaluations=len(history),
-        history=history,
+        evaluations=len(trials.history),
+        history=trials.history,
         active=_active(values, bounds, max_fracture_energy),
     )
 

@@ -11,6 +11,7 @@ to check the lumped model, not for bulk data.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import exudyn as exu
@@ -26,8 +27,9 @@ from exudyn.itemInterface import (
 
 import ftfof.config as config
 from ftfof.errors import SimulationError
-from ftfof.kinematics.legs import build_leg
+from ftfof.kinematics.legs import Leg, build_leg
 from ftfof.sim.foot import ankle_joint_law
+from ftfof.sim.spec import SampleSpec
 
 ATTACH_STIFFNESS = 2e5  # N/m, foot-to-ankle-link attachment (stiff against the leg's compliance)
 ATTACH_DAMPING = 20.0
@@ -52,13 +54,33 @@ def attach_joint_leg(p: Any, foot_node: Any, g0: Any) -> Any:
     spec = p.spec
     if not isinstance(spec.leg, config.PlanarLeg):
         raise SimulationError(spec.key, "the joint-level leg model supports planar3 legs only")
-    mbs, mech = p.mbs, spec.mechanics
-    leg = build_leg(spec.leg)
-    l1, l2 = spec.leg.links
-    kp, kd = mech.joint_gains
-    body = mech.body
-    traj = spec.trajectory
-    t0 = spec.trajectory_start
+    mbs = p.mbs
+    targets = _targets(p, build_leg(spec.leg))
+    theta0, _ = targets(0.0)
+    if not np.all(np.isfinite(theta0)):
+        raise SimulationError(spec.key, "the start pose is outside the leg's reach")
+    q0 = np.concatenate([[0.0, 0.0], theta0])
+    tree = _tree(mbs, spec, tree_node(mbs, q0), q0)
+    _attach_foot(p, tree, foot_node)
+    p.leg_update = _updater(mbs, tree, targets, len(q0))
+    return mbs.AddSensor(
+        SensorKinematicTree(
+            objectNumber=tree,
+            linkNumber=1,
+            outputVariableType=exu.OutputVariableType.Acceleration,
+            storeInternal=True,
+            writeToFile=False,
+        )
+    )
+
+
+Targets = Callable[[float], tuple[np.ndarray, np.ndarray]]
+
+
+def _targets(p: Any, leg: Leg) -> Targets:
+    """The joint angles and rates (hip, knee, ankle) that put the foot on the commanded motion,
+    less the press depth, at a time; NaN angles outside the leg's reach."""
+    traj, t0 = p.spec.trajectory, p.spec.trajectory_start
 
     def targets(t: float) -> tuple[np.ndarray, np.ndarray]:
         s = traj.sample(np.array([t - t0]))
@@ -67,12 +89,16 @@ def attach_joint_leg(p: Any, foot_node: Any, g0: Any) -> Any:
         rates = np.linalg.lstsq(leg.jacobian(theta)[:, :2], s.velocity[0, 0], rcond=None)[0]
         return theta, np.array([rates[0], rates[1], -rates[0] - rates[1]])
 
-    theta0, _ = targets(0.0)
-    if not np.all(np.isfinite(theta0)):
-        raise SimulationError(spec.key, "the start pose is outside the leg's reach")
-    n = 5
-    q0 = np.concatenate([[0.0, 0.0], theta0])
-    node = tree_node(mbs, q0)
+    return targets
+
+
+def _tree(mbs: Any, spec: SampleSpec, node: Any, q0: np.ndarray) -> Any:
+    """The KinematicTree: body on its mounts (two prismatic joints), hip, knee, ankle servo."""
+    mech = spec.mechanics
+    l1, l2 = spec.leg.links
+    kp, kd = mech.joint_gains
+    body = mech.body
+    n = len(q0)
     eye = np.eye(3).tolist()
     zero = [0.0, 0.0, 0.0]
     inertia = (
@@ -80,7 +106,7 @@ def attach_joint_leg(p: Any, foot_node: Any, g0: Any) -> Any:
         + [(np.diag([0.0, 0.0, mech.link_mass * length**2 / 12]).tolist()) for length in (l1, l2)]
         + [np.diag([0.0, 0.0, 1e-7]).tolist()]
     )
-    tree = mbs.AddObject(
+    return mbs.AddObject(
         ObjectKinematicTree(
             nodeNumber=node,
             baseOffset=[spec.leg.hip.x, spec.leg.hip.z, 0.0],
@@ -98,14 +124,20 @@ def attach_joint_leg(p: Any, foot_node: Any, g0: Any) -> Any:
             jointVelocityOffsetVector=[0.0] * n,
         )
     )
-    foot = mech.foot
+
+
+def _attach_foot(p: Any, tree: Any, foot_node: Any) -> None:
+    """The foot on the ankle link: stiff in translation, the passive ankle's spring about z."""
+    mbs, foot = p.mbs, p.spec.mechanics.foot
     k_attach = [ATTACH_STIFFNESS] * 3 + [0.0, 0.0, foot.ankle_stiffness]
     d_attach = [ATTACH_DAMPING] * 3 + [0.0, 0.0, foot.ankle_damping]
     ankle = mbs.AddObject(
         ObjectConnectorRigidBodySpringDamper(
             markerNumbers=[
                 mbs.AddMarker(
-                    MarkerKinematicTreeRigid(objectNumber=tree, linkNumber=4, localPosition=zero)
+                    MarkerKinematicTreeRigid(
+                        objectNumber=tree, linkNumber=4, localPosition=[0.0, 0.0, 0.0]
+                    )
                 ),
                 mbs.AddMarker(MarkerNodeRigid(nodeNumber=foot_node)),
             ],
@@ -114,7 +146,12 @@ def attach_joint_leg(p: Any, foot_node: Any, g0: Any) -> Any:
         )
     )
     if foot.model == "plate":
-        p.keep.append(ankle_joint_law(mbs, ankle, foot, spec.ankle_rest))
+        p.keep.append(ankle_joint_law(mbs, ankle, foot, p.spec.ankle_rest))
+
+
+def _updater(mbs: Any, tree: Any, targets: Targets, n: int) -> Callable[[float], None]:
+    """The per-step update of the tree's joint targets; the last reachable ones held outside
+    the leg's reach."""
     offsets = np.zeros(n)
     rates = np.zeros(n)
 
@@ -126,13 +163,4 @@ def attach_joint_leg(p: Any, foot_node: Any, g0: Any) -> Any:
         mbs.SetObjectParameter(tree, "jointPositionOffsetVector", offsets.tolist())
         mbs.SetObjectParameter(tree, "jointVelocityOffsetVector", rates.tolist())
 
-    p.leg_update = update
-    return mbs.AddSensor(
-        SensorKinematicTree(
-            objectNumber=tree,
-            linkNumber=1,
-            outputVariableType=exu.OutputVariableType.Acceleration,
-            storeInternal=True,
-            writeToFile=False,
-        )
-    )
+    return update

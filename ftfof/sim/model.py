@@ -39,7 +39,7 @@ from exudyn.itemInterface import (
     SensorObject,
 )
 
-from ftfof.config import GRAVITY, FilmMechanics, FootMechanics
+from ftfof.config import GRAVITY, FilmMechanics, FootMechanics, Sensor
 from ftfof.sim.bonds import BondLaw
 from ftfof.sim.foot import ankle_law, backing_stiffness, free_span_start, grip_of, pressed_area
 from ftfof.sim.pad import add_bonds, add_film, film_grid
@@ -48,6 +48,7 @@ from ftfof.sim.spec import SampleSpec
 
 esym = exu.symbolic
 Real = esym.Real
+STORE = {"storeInternal": True, "writeToFile": False}  # sensors keep their data in memory
 
 
 @dataclass
@@ -114,7 +115,6 @@ def build(spec: SampleSpec, law: BondLaw) -> Platform:
     """Assemble the platform for one sample (not yet solved)."""
     m = spec.mechanics
     film, foot = m.film, m.foot
-    sensor = spec.platform.sensor
     pad = spec.pad_length
     grip = grip_of(foot, pad)
     grid = film_grid(pad, spec.solver.nodes, film.width, grip, spec.solver.edge_element)
@@ -123,38 +123,9 @@ def build(spec: SampleSpec, law: BondLaw) -> Platform:
     mbs = sc.AddSystem()
     ground = mbs.AddNode(NodePointGround())
     g0 = _coord(mbs, ground, 0)
-
-    # adhesion plate on the force sensor
-    plate = mbs.AddNode(NodePoint2D(referenceCoordinates=[0.0, 0.0]))
-    mbs.AddObject(MassPoint2D(nodeNumber=plate, mass=sensor.plate_mass))
-    sensor_x = mbs.AddObject(
-        CoordinateSpringDamper(
-            markerNumbers=[g0, _coord(mbs, plate, 0)],
-            stiffness=sensor.stiffness,
-            damping=sensor.damping,
-        )
-    )
-    sensor_z = mbs.AddObject(
-        CoordinateSpringDamper(
-            markerNumbers=[g0, _coord(mbs, plate, 1)],
-            stiffness=sensor.stiffness,
-            damping=sensor.damping,
-        )
-    )
+    plate, sensor_x, sensor_z = _plate_on_sensor(mbs, g0, spec.platform.sensor)
     plate_pos = mbs.AddMarker(MarkerNodePosition(nodeNumber=plate))
-
-    # foot on its passive ankle
-    ha = foot.ankle_height
-    foot_node = mbs.AddNode(NodeRigidBody2D(referenceCoordinates=[0.0, ha, 0.0]))
-    foot_body = mbs.AddObject(
-        ObjectRigidBody2D(nodeNumber=foot_node, mass=foot.mass, inertia=foot.inertia)
-    )
-    mbs.AddLoad(
-        LoadMassProportional(
-            markerNumber=mbs.AddMarker(MarkerBodyMass(bodyNumber=foot_body)),
-            loadVector=[0.0, -GRAVITY, 0.0],
-        )
-    )
+    foot_node, foot_body = _foot_on_ankle(mbs, foot)
 
     # the film lying on the plate, held by the foot (the grip's clamp or the plate's backing)
     film_nodes, elements, stop = add_film(mbs, film, grid, foot_body, foot)
@@ -181,47 +152,85 @@ def build(spec: SampleSpec, law: BondLaw) -> Platform:
         series_stiffness=_series_stiffness(spec, law, area),
     )
     _carriage(p, sensor_x, spec)
-    if spec.leg_model == "joints":
-        from ftfof.sim.joint_leg import attach_joint_leg
-
-        body_acc = attach_joint_leg(p, foot_node, g0)
-    else:
-        body_acc = _lumped_leg(p, g0, foot_node)
+    body_acc = _leg(p, g0, foot_node)
     p.bonds, bond_force = add_bonds(
         mbs, law, film_nodes, x_ref, area, p.initial_pressure, plate_pos
     )
     p.keep.append(bond_force)
-
-    store = {"storeInternal": True, "writeToFile": False}
-    force = exu.OutputVariableType.Force
-    p.sensors = {
-        "Fx": mbs.AddSensor(SensorObject(objectNumber=sensor_x, outputVariableType=force, **store)),
-        "Fz": mbs.AddSensor(SensorObject(objectNumber=sensor_z, outputVariableType=force, **store)),
-        "body_acc": body_acc,
-        # with the sensor forces, the plate's acceleration gives the pad-plate interface force
-        "plate_acc": mbs.AddSensor(
-            SensorNode(
-                nodeNumber=plate, outputVariableType=exu.OutputVariableType.Acceleration, **store
-            )
-        ),
-        "plate": mbs.AddSensor(
-            SensorNode(
-                nodeNumber=plate, outputVariableType=exu.OutputVariableType.Displacement, **store
-            )
-        ),
-        "foot": mbs.AddSensor(
-            SensorNode(
-                nodeNumber=foot_node, outputVariableType=exu.OutputVariableType.Position, **store
-            )
-        ),
-    }
+    p.sensors = _sensors(p, sensor_x, sensor_z, body_acc)
     coords = exu.OutputVariableType.Coordinates
     p.film_sensors = [
-        mbs.AddSensor(SensorNode(nodeNumber=node, outputVariableType=coords, **store))
+        mbs.AddSensor(SensorNode(nodeNumber=node, outputVariableType=coords, **STORE))
         for node in film_nodes
     ]
     mbs.Assemble()
     return p
+
+
+def _plate_on_sensor(mbs: Any, g0: Any, sensor: Sensor) -> tuple[Any, Any, Any]:
+    """The adhesion plate, a point mass on the force sensor's x and z spring-dampers; returns
+    the plate's node and the two springs."""
+    plate = mbs.AddNode(NodePoint2D(referenceCoordinates=[0.0, 0.0]))
+    mbs.AddObject(MassPoint2D(nodeNumber=plate, mass=sensor.plate_mass))
+    springs = tuple(
+        mbs.AddObject(
+            CoordinateSpringDamper(
+                markerNumbers=[g0, _coord(mbs, plate, axis)],
+                stiffness=sensor.stiffness,
+                damping=sensor.damping,
+            )
+        )
+        for axis in (0, 1)
+    )
+    return plate, *springs
+
+
+def _foot_on_ankle(mbs: Any, foot: FootMechanics) -> tuple[Any, Any]:
+    """The foot, a rigid body at the ankle's height under gravity; returns its node and body."""
+    foot_node = mbs.AddNode(NodeRigidBody2D(referenceCoordinates=[0.0, foot.ankle_height, 0.0]))
+    foot_body = mbs.AddObject(
+        ObjectRigidBody2D(nodeNumber=foot_node, mass=foot.mass, inertia=foot.inertia)
+    )
+    mbs.AddLoad(
+        LoadMassProportional(
+            markerNumber=mbs.AddMarker(MarkerBodyMass(bodyNumber=foot_body)),
+            loadVector=[0.0, -GRAVITY, 0.0],
+        )
+    )
+    return foot_node, foot_body
+
+
+def _leg(p: Platform, g0: Any, foot_node: Any) -> Any:
+    """The leg model the spec names, between the body and the foot; returns the IMU sensor."""
+    if p.spec.leg_model == "joints":
+        from ftfof.sim.joint_leg import attach_joint_leg
+
+        return attach_joint_leg(p, foot_node, g0)
+    return _lumped_leg(p, g0, foot_node)
+
+
+def _sensors(p: Platform, sensor_x: Any, sensor_z: Any, body_acc: Any) -> dict[str, Any]:
+    """The force sensor's readings, the IMU, and the plate's and the foot's motion."""
+    mbs, out = p.mbs, exu.OutputVariableType
+    return {
+        "Fx": mbs.AddSensor(
+            SensorObject(objectNumber=sensor_x, outputVariableType=out.Force, **STORE)
+        ),
+        "Fz": mbs.AddSensor(
+            SensorObject(objectNumber=sensor_z, outputVariableType=out.Force, **STORE)
+        ),
+        "body_acc": body_acc,
+        # with the sensor forces, the plate's acceleration gives the pad-plate interface force
+        "plate_acc": mbs.AddSensor(
+            SensorNode(nodeNumber=p.plate_node, outputVariableType=out.Acceleration, **STORE)
+        ),
+        "plate": mbs.AddSensor(
+            SensorNode(nodeNumber=p.plate_node, outputVariableType=out.Displacement, **STORE)
+        ),
+        "foot": mbs.AddSensor(
+            SensorNode(nodeNumber=p.foot_node, outputVariableType=out.Position, **STORE)
+        ),
+    }
 
 
 def _series_stiffness(spec: SampleSpec, law: BondLaw, area: np.ndarray) -> float:
@@ -279,14 +288,8 @@ def body_on_mounts(p: Platform, g0: Any) -> tuple[Any, Any, Any]:
         (bz, body_m.mount_stiffness.z, body_m.mount_damping.z),
     ):
         mbs.AddObject(CoordinateSpringDamper(markerNumbers=[g0, marker], stiffness=k, damping=d))
-    sensor = mbs.AddSensor(
-        SensorNode(
-            nodeNumber=body,
-            outputVariableType=exu.OutputVariableType.Acceleration,
-            storeInternal=True,
-            writeToFile=False,
-        )
-    )
+    acc = exu.OutputVariableType.Acceleration
+    sensor = mbs.AddSensor(SensorNode(nodeNumber=body, outputVariableType=acc, **STORE))
     return bx, bz, sensor
 
 

@@ -23,6 +23,7 @@ from ftfof.trajectory.feasibility import Bound, Constraint, Population
 from ftfof.trajectory.rules import md_path_violation, path_radius_violation, reversal_violation
 
 Array = NDArray[np.float64]
+Rule = tuple[str, str, Callable[[Population], Array]]  # kind, name, violation
 
 
 def constraint_table(
@@ -103,19 +104,28 @@ def _sampled(
     t: Array,
     p0: Array,
 ) -> list[Constraint]:
-    """Rules on the trajectory sampled on the grid ``t``."""
+    """Rules on the trajectory sampled on the grid ``t``: the limits, then the path's shape."""
+    rules = _limit_rules(robot, limits, feasibility, t, p0) + _path_rules(robot, feasibility, t)
+    return [Constraint(kind, name, fn, sampled=True) for kind, name, fn in rules]
+
+
+def _limit_rules(
+    robot: config.Robot,
+    limits: RobotLimits,
+    feasibility: config.Feasibility,
+    t: Array,
+    p0: Array,
+) -> list[Rule]:
+    """Position (Ppl, P0x, the wall) and velocity (Vpl) limits on the sampled path."""
     pplx, pplz = limits.position
     vplx, vplz = limits.velocity
     tol = feasibility.position_tolerance
     floor = np.where(t > robot.timing.T2, -robot.shape.press_depth, p0[1])
-    r_min = robot.constraints.min_path_radius
-    # a speed that moves the foot less than min_step in one grid interval has no direction
-    min_speed = feasibility.min_step / float(t[1] - t[0])
 
     def extreme(key: str, axis: int, sign: float, limit: float) -> Callable[[Population], Array]:
         return lambda c: sign * c.extremes[key][:, axis] - limit
 
-    rules = [
+    return [
         ("position_limit", "trajectory x <= Pplx", extreme("position_max", 0, 1, pplx + tol)),
         ("position_limit", "trajectory z <= Pplz", extreme("position_max", 1, 1, pplz + tol)),
         (
@@ -130,6 +140,16 @@ def _sampled(
         ),
         ("velocity_limit", "|vx| <= Vplx", extreme("speed_max", 0, 1, vplx)),
         ("velocity_limit", "|vz| <= Vplz", extreme("speed_max", 1, 1, vplz)),
+    ]
+
+
+def _path_rules(robot: config.Robot, feasibility: config.Feasibility, t: Array) -> list[Rule]:
+    """The bending guards (fs6, min_path_radius, no_cusp) and md on the path (``md_path``)."""
+    tol = feasibility.position_tolerance
+    r_min = robot.constraints.min_path_radius
+    # a speed that moves the foot less than min_step in one grid interval has no direction
+    min_speed = feasibility.min_step / float(t[1] - t[0])
+    rules: list[Rule] = [
         (
             "bending",
             "fs6 = 0",
@@ -160,7 +180,7 @@ def _sampled(
                 ),
             )
         )
-    return [Constraint(kind, name, fn, sampled=True) for kind, name, fn in rules]
+    return rules
 
 
 def _lower(var: str, value: float) -> Callable[[Population], Array]:

@@ -16,7 +16,7 @@ over the feasible set; the box weights of the map still give what plain box draw
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
@@ -24,6 +24,7 @@ from scipy.stats import qmc
 
 from ftfof.config import Design
 from ftfof.errors import SamplingError
+from ftfof.trajectory.feasibility import FeasibilityReport
 from ftfof.trajectory.policy import ConstraintPolicy
 
 Array = NDArray[np.float64]
@@ -70,6 +71,26 @@ def _batch_sizes(batch: int, max_draws: int) -> Iterator[int]:
         total += size
 
 
+@dataclass
+class _Tally:
+    """Per-rule counts summed over the batches (:class:`SampleResult`'s)."""
+
+    rejected: dict[str, int] = field(default_factory=dict)
+    rejected_kind: dict[str, int] = field(default_factory=dict)
+    evaluated: dict[str, int] = field(default_factory=dict)
+    passed: dict[str, int] = field(default_factory=dict)
+
+    def add(self, report: FeasibilityReport) -> None:
+        for into, counts in (
+            (self.rejected, report.rejected_by()),
+            (self.rejected_kind, report.rejected_by_kind()),
+            (self.evaluated, report.evaluated_by()),
+            (self.passed, report.passed_by()),
+        ):
+            for name, count in counts.items():
+                into[name] = into.get(name, 0) + count
+
+
 def sample_feasible(
     policy: ConstraintPolicy,
     n: int,
@@ -88,23 +109,13 @@ def sample_feasible(
     kept: list[Array] = []
     accepted = draws = refused = 0
     box_hits = 0.0
-    rejected: dict[str, int] = {}
-    rejected_kind: dict[str, int] = {}
-    evaluated: dict[str, int] = {}
-    passed: dict[str, int] = {}
+    tally = _Tally()
     for size in _batch_sizes(batch, max_draws):
         if accepted >= n:
             break
         X, weight = policy.shaped(draw(size))
         report = policy.screen(X)
-        for name, count in report.rejected_by().items():
-            rejected[name] = rejected.get(name, 0) + count
-        for kind, count in report.rejected_by_kind().items():
-            rejected_kind[kind] = rejected_kind.get(kind, 0) + count
-        for name, count in report.evaluated_by().items():
-            evaluated[name] = evaluated.get(name, 0) + count
-        for name, count in report.passed_by().items():
-            passed[name] = passed.get(name, 0) + count
+        tally.add(report)
         rows = np.flatnonzero(report.feasible)
         rows = rows[fine.screen(X[rows], chunk=1024).feasible]
         refused += int(report.feasible.sum()) - len(rows)
@@ -119,7 +130,7 @@ def sample_feasible(
             "sample",
             f"only {accepted} of {n} feasible trajectories in {draws} draws "
             f"(acceptance {accepted / max(draws, 1):.2e}); raise sample.max_draws or relax the "
-            f"robot's constraints (most rejections: {_top(rejected)})",
+            f"robot's constraints (most rejections: {_top(tally.rejected)})",
         )
     return SampleResult(
         np.concatenate(kept)[:n],
@@ -127,10 +138,10 @@ def sample_feasible(
         accepted,
         refused,
         box_hits / draws,
-        rejected,
-        rejected_kind,
-        evaluated,
-        passed,
+        tally.rejected,
+        tally.rejected_kind,
+        tally.evaluated,
+        tally.passed,
     )
 
 

@@ -6,6 +6,7 @@ import pytest
 
 from ftfof.sim import bonds
 from ftfof.sim.bonds import BondLaw, BondState
+from ftfof.sim.idle import IDLE_HEIGHT, IDLE_STEPS, idle_changes
 
 
 @pytest.fixture
@@ -280,7 +281,7 @@ def test_opening_rate_raises_the_scale_of_a_loaded_bond(law):
 
 def _idle(film: Film, broken: list[bool], idle: np.ndarray, h: float = 5e-4) -> list[int]:
     changed = np.zeros(len(film.x), dtype=np.int64)
-    n = bonds.idle_changes(film.q, film.qd, film.node_index, 0, np.array(broken), idle, h, changed)
+    n = idle_changes(film.q, film.qd, film.node_index, 0, np.array(broken), idle, h, changed)
     return changed[:n].tolist()
 
 
@@ -288,10 +289,10 @@ def test_only_broken_nodes_clear_of_the_plate_go_idle():
     """Node 0 bonded and high, 1 broken and high, 2 broken and touching, 3 broken and high but
     closing fast enough to reach the plate within the look-ahead."""
     film = Film(4)
-    high = 2 * bonds.IDLE_HEIGHT
+    high = 2 * IDLE_HEIGHT
     for i in (0, 1, 3):
         film.q[film.node_index[i] + 1] = high
-    film.qd[film.node_index[3] + 1] = -high / (bonds.IDLE_STEPS * 5e-4)
+    film.qd[film.node_index[3] + 1] = -high / (IDLE_STEPS * 5e-4)
     idle = np.zeros(4, dtype=bool)
     assert _idle(film, [False, True, True, True], idle) == [1]
     assert idle.tolist() == [False, True, False, False]
@@ -300,11 +301,11 @@ def test_only_broken_nodes_clear_of_the_plate_go_idle():
 
 def test_an_idle_node_wakes_when_it_comes_near_the_plate_or_the_plate_comes_up():
     film = Film(2)
-    film.q[film.node_index + 1] = 2 * bonds.IDLE_HEIGHT
+    film.q[film.node_index + 1] = 2 * IDLE_HEIGHT
     idle = np.zeros(2, dtype=bool)
     assert _idle(film, [True, True], idle) == [0, 1]
-    film.q[film.node_index[0] + 1] = 0.5 * bonds.IDLE_HEIGHT  # node 0 sinks
+    film.q[film.node_index[0] + 1] = 0.5 * IDLE_HEIGHT  # node 0 sinks
     assert _idle(film, [True, True], idle) == [0]
-    film.q[1] = 1.5 * bonds.IDLE_HEIGHT  # the plate rises under node 1
+    film.q[1] = 1.5 * IDLE_HEIGHT  # the plate rises under node 1
     assert _idle(film, [True, True], idle) == [1]
     assert not idle.any()

@@ -11,12 +11,13 @@ import pytest
 from pydantic import ValidationError
 
 from ftfof.config.stages import Solver
-from ftfof.sim import bonds, prestep
+from ftfof.sim import prestep, stepsize
+from ftfof.sim.idle import IDLE_HEIGHT
 from ftfof.sim.simulate import simulate
 from ftfof.trajectory.baselines import Polynomial
 from tests.sim.helpers import PUBLISHED, bench
 
-LANDING = prestep.LANDING_FINE
+LANDING = stepsize.LANDING_FINE
 
 # the recommended schedule (docs/simulator.md): pull, jitter and bend bit for bit
 SCHEDULE = {"flight": 1e-3, "landing_hold": 2e-3}
@@ -115,18 +116,18 @@ def test_long_steps_only_in_their_phases(params, logged):
     t0, t_land = spec.trajectory_start, spec.trajectory_start + spec.trajectory.duration
     short = _newton_recoveries(t[:-1], h[:-1], spec.solver.step, t_land)  # the touchdown's
     assert np.all(np.isclose(h[:-1][~long[:-1] & ~short], spec.solver.step, rtol=0, atol=1e-15))
-    eps = prestep.PHASE_EPS
+    eps = stepsize.PHASE_EPS
     before = t <= t0 + eps
     flight = long & (start >= t0 - eps) & (start < t_land)
-    hold = start >= t_land + prestep.LANDING_FINE - eps
+    hold = start >= t_land + stepsize.LANDING_FINE - eps
     assert np.all(before[long] | flight[long] | hold[long])
     assert before[long].sum() > 50 and flight.sum() > 100
     assert np.all(t[flight] <= t_land + eps)
-    assert np.all(start[flight] >= switched[flight] + prestep.FLIGHT_AFTER_SWITCH - eps)
+    assert np.all(start[flight] >= switched[flight] + stepsize.FLIGHT_AFTER_SWITCH - eps)
     previous = np.flatnonzero(flight) - 1  # the pre-step before decided on its state
     assert np.all(bonded[previous] == 0) and np.all(active[previous] == 0)
-    assert np.all(lowest[previous] > prestep.FLIGHT_HEIGHT)
-    assert np.all(bonded[flight] == 0) and np.all(lowest[flight] > bonds.IDLE_HEIGHT)
+    assert np.all(lowest[previous] > stepsize.FLIGHT_HEIGHT)
+    assert np.all(bonded[flight] == 0) and np.all(lowest[flight] > IDLE_HEIGHT)
     assert math.isclose(t[-1], spec.end_time, abs_tol=1e-9)
     # the pre-step also sees a step Newton fails (the touchdown's): the retry starts again from
     # that step's start, so the clock runs by the steps that were kept

@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import pandas as pd
 import pyarrow.parquet as pq
 
 from ftfof.config import Params
@@ -91,21 +92,7 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
         pictures = {key: read_figure(paths.figures / key) for key, _ in STAGE_FIGURES}
         rounds = read_refine(paths.refine)
         robot = gathered(paths.robot)  # the robot's stages, read before anything runs
-        front_rows = front_sample(inputs, params.evaluate.front_points)
-        job = _job(params, ctx, paths.out, inputs, front_rows, baselines)
-        cfg = params.acquire
-        todo = job.remaining()
-        console.print(
-            f"evaluate {ctx.name} on {params.surface}: {len(job.specs)} simulations "
-            f"(optimum, {len(front_rows)} front members, baselines"
-            f"{'; Table I again at the check step' if params.evaluate.check_step else ''}"
-            f"{'; all on the check film' if params.evaluate.check_nodes else ''}), "
-            f"{len(todo)} to run"
-        )
-        pool = cfg.workers if workers is None else workers
-        wall = job.simulate(todo, pool, cfg.scheduler, "evaluate")
-        job.finish(wall, len(todo))
-        simulations = pq.read_table(job.out / FINAL).to_pandas()
+        simulations = _simulated(params, ctx, paths.out, inputs, baselines, workers)
         bezier = bezier_rows(ctx, inputs)
         breaks = admitted(ctx, baselines, bezier)
         result = evaluate(
@@ -131,10 +118,7 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
             rounds,
             robot.scenario,
         )
-        controller = result.controller
-        with atomic_path(paths.export) as tmp:
-            header = ",".join(controller.columns)
-            np.savetxt(tmp, controller.table, delimiter=",", header=header, comments="", fmt="%.9g")
+        _export(result, paths.export)
         result.summary["seconds"] = round(time.perf_counter() - started, 2)  # the stage's time
         result.summary["model"] = model_record(paths.models)  # the surrogates that found it
         write_metrics("evaluate", paths.metrics, result.summary)
@@ -142,6 +126,42 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
             tmp.write_text(html, encoding="utf-8")
         _log(mlflow, params, result.summary, paths)
     return result
+
+
+def _simulated(
+    params: Params,
+    ctx: RobotContext,
+    out: Path,
+    inputs: Inputs,
+    baselines: Mapping[str, Sampled],
+    workers: int | None,
+) -> pd.DataFrame:
+    """The evaluation's simulations (:func:`_job`), those still to run run now in a pool of
+    ``workers`` (None: acquire.workers)."""
+    front_rows = front_sample(inputs, params.evaluate.front_points)
+    job = _job(params, ctx, out, inputs, front_rows, baselines)
+    todo = job.remaining()
+    console.print(
+        f"evaluate {ctx.name} on {params.surface}: {len(job.specs)} simulations "
+        f"(optimum, {len(front_rows)} front members, baselines"
+        f"{'; Table I again at the check step' if params.evaluate.check_step else ''}"
+        f"{'; all on the check film' if params.evaluate.check_nodes else ''}), "
+        f"{len(todo)} to run"
+    )
+    cfg = params.acquire
+    wall = job.simulate(
+        todo, cfg.workers if workers is None else workers, cfg.scheduler, "evaluate"
+    )
+    job.finish(wall, len(todo))
+    return pq.read_table(job.out / FINAL).to_pandas()
+
+
+def _export(result: Evaluation, path: Path) -> None:
+    """The optimum for a controller, as CSV."""
+    controller = result.controller
+    with atomic_path(path) as tmp:
+        header = ",".join(controller.columns)
+        np.savetxt(tmp, controller.table, delimiter=",", header=header, comments="", fmt="%.9g")
 
 
 @dataclass(frozen=True)

@@ -10,6 +10,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
+import pandas as pd
 import pyarrow as pa
 
 from ftfof.data.schema import field
@@ -81,6 +82,19 @@ ACQUISITION = pa.schema(
     ]
 )
 
+
+# the columns an acquisition's summary reads
+SUMMARIZED = (
+    "source",
+    "status",
+    "wall_time",
+    "peak_detachment",
+    "peak_pre_pressure",
+    "landing_pre_pressure",
+    "peak_body_acc",
+    "min_bend_radius",
+    "max_clearance",
+)
 
 # In-progress parts also carry each sample's wall time; the final table leaves it out so that
 # re-running gives byte-identical data (the times go to a report instead).
@@ -171,19 +185,7 @@ def summarize(
     """An acquisition's metrics: its failures and time (``wall`` seconds, ``simulated`` runs by
     this invocation), the sampled set's peaks, the fraction bending the film below fc or never
     clearing the wall by ``clearance``, and each baseline's figures."""
-    df = table.select(
-        [
-            "source",
-            "status",
-            "wall_time",
-            "peak_detachment",
-            "peak_pre_pressure",
-            "landing_pre_pressure",
-            "peak_body_acc",
-            "min_bend_radius",
-            "max_clearance",
-        ]
-    ).to_pandas()
+    df = table.select(list(SUMMARIZED)).to_pandas()
     ok = df[df.status == "ok"]
     sampled = ok[ok.source == "sampled"]
 
@@ -199,16 +201,6 @@ def summarize(
     def below(col: str, value: float) -> float | None:
         return round(float(np.mean(sampled[col] < value)), 4) if len(sampled) else None
 
-    baselines = {
-        row.source.removeprefix("baseline:"): {
-            "peak_detachment": round(float(row.peak_detachment), 4),
-            "peak_pre_pressure": round(float(row.peak_pre_pressure), 4),
-            "peak_body_acc": round(float(row.peak_body_acc), 4),
-            "min_bend_radius": round(float(row.min_bend_radius), 6),
-            "max_clearance": round(float(row.max_clearance), 6),
-        }
-        for row in ok[ok.source.str.startswith("baseline:")].itertuples()
-    }
     return {
         "samples": len(df),
         "ok": len(ok),
@@ -227,5 +219,19 @@ def summarize(
         # fraction of the sampled set whose pad never rose foot.swing_clearance above the wall
         "pad_below_swing_clearance": below("max_clearance", clearance),
         "max_clearance": stats("max_clearance"),
-        "baselines": baselines,
+        "baselines": _baseline_figures(ok),
+    }
+
+
+def _baseline_figures(ok: pd.DataFrame) -> dict[str, dict[str, float]]:
+    """Each successful baseline's peaks, bend radius and clearance, by baseline name."""
+    return {
+        row.source.removeprefix("baseline:"): {
+            "peak_detachment": round(float(row.peak_detachment), 4),
+            "peak_pre_pressure": round(float(row.peak_pre_pressure), 4),
+            "peak_body_acc": round(float(row.peak_body_acc), 4),
+            "min_bend_radius": round(float(row.min_bend_radius), 6),
+            "max_clearance": round(float(row.max_clearance), 6),
+        }
+        for row in ok[ok.source.str.startswith("baseline:")].itertuples()
     }

@@ -122,6 +122,14 @@ def sampled_specs(
     return specs, {s.key: x for s, x in zip(specs, X, strict=True)}
 
 
+def canonical_rows(table: pa.Table, keys: set[str]) -> pa.Table:
+    """The rows of ``keys`` sorted by key: a job's samples in an order that does not depend on
+    the order they completed in."""
+    table = table.filter(pa.compute.is_in(table.column("key"), pa.array(sorted(keys))))
+    order = np.argsort(np.array(table.column("key").to_pylist(), dtype=object), kind="stable")
+    return table.take(pa.array(order))
+
+
 def check_complete(table: pa.Table, expected: int, where: str) -> None:
     """A finished job's rows (at ``where``) must be ``expected`` distinct samples."""
     keys = table.column("key").to_pylist()

@@ -10,6 +10,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
+import pandas as pd
 import pyarrow as pa
 
 from ftfof.data.schema import field
@@ -82,6 +83,19 @@ ACQUISITION = pa.schema(
 )
 
 
+# the columns an acquisition's summary reads
+SUMMARIZED = (
+    "source",
+    "status",
+    "wall_time",
+    "peak_detachment",
+    "peak_pre_pressure",
+    "landing_pre_pressure",
+    "peak_body_acc",
+    "min_bend_radius",
+    "max_clearance",
+)
+
 # In-progress parts also carry each sample's wall time; the final table leaves it out so that
 # re-running gives byte-identical data (the times go to a report instead).
 PENDING = ACQUISITION.append(field("wall_time", pa.float64(), "s", "simulation wall time"))
@@ -106,6 +120,14 @@ def sampled_specs(
     ids = table.column("sample_id").to_numpy()
     specs = [on.bezier("sampled", int(i), x) for i, x in zip(ids, X, strict=True)]
     return specs, {s.key: x for s, x in zip(specs, X, strict=True)}
+
+
+def canonical_rows(table: pa.Table, keys: set[str]) -> pa.Table:
+    """The rows of ``keys`` sorted by key: a job's samples in an order that does not depend on
+    the order they completed in."""
+    table = table.filter(pa.compute.is_in(table.column("key"), pa.array(sorted(keys))))
+    order = np.argsort(np.array(table.column("key").to_pylist(), dtype=object), kind="stable")
+    return table.take(pa.array(order))
 
 
 def check_complete(table: pa.Table, expected: int, where: str) -> None:
@@ -171,19 +193,7 @@ def summarize(
     """An acquisition's metrics: its failures and time (``wall`` seconds, ``simulated`` runs by
     this invocation), the sampled set's peaks, the fraction bending the film below fc or never
     clearing the wall by ``clearance``, and each baseline's figures."""
-    df = table.select(
-        [
-            "source",
-            "status",
-            "wall_time",
-            "peak_detachment",
-            "peak_pre_pressure",
-            "landing_pre_pressure",
-            "peak_body_acc",
-            "min_bend_radius",
-            "max_clearance",
-        ]
-    ).to_pandas()
+    df = table.select(list(SUMMARIZED)).to_pandas()
     ok = df[df.status == "ok"]
     sampled = ok[ok.source == "sampled"]
 
@@ -199,16 +209,6 @@ def summarize(
     def below(col: str, value: float) -> float | None:
         return round(float(np.mean(sampled[col] < value)), 4) if len(sampled) else None
 
-    baselines = {
-        row.source.removeprefix("baseline:"): {
-            "peak_detachment": round(float(row.peak_detachment), 4),
-            "peak_pre_pressure": round(float(row.peak_pre_pressure), 4),
-            "peak_body_acc": round(float(row.peak_body_acc), 4),
-            "min_bend_radius": round(float(row.min_bend_radius), 6),
-            "max_clearance": round(float(row.max_clearance), 6),
-        }
-        for row in ok[ok.source.str.startswith("baseline:")].itertuples()
-    }
     return {
         "samples": len(df),
         "ok": len(ok),
@@ -227,5 +227,19 @@ def summarize(
         # fraction of the sampled set whose pad never rose foot.swing_clearance above the wall
         "pad_below_swing_clearance": below("max_clearance", clearance),
         "max_clearance": stats("max_clearance"),
-        "baselines": baselines,
+        "baselines": _baseline_figures(ok),
+    }
+
+
+def _baseline_figures(ok: pd.DataFrame) -> dict[str, dict[str, float]]:
+    """Each successful baseline's peaks, bend radius and clearance, by baseline name."""
+    return {
+        row.source.removeprefix("baseline:"): {
+            "peak_detachment": round(float(row.peak_detachment), 4),
+            "peak_pre_pressure": round(float(row.peak_pre_pressure), 4),
+            "peak_body_acc": round(float(row.peak_body_acc), 4),
+            "min_bend_radius": round(float(row.min_bend_radius), 6),
+            "max_clearance": round(float(row.max_clearance), 6),
+        }
+        for row in ok[ok.source.str.startswith("baseline:")].itertuples()
     }

@@ -166,26 +166,9 @@ def build(
         "peak_body_acc",
     ]
     cols = ok.select(scalar_names).to_pydict()
-    series = {c: list_column(ok, c) for c in CHANNELS}
-    n = ok.num_rows
-    seqs = {name: np.empty((n, settings.seq_len)) for name in ("t", *INPUTS, *TARGETS)}
-    for i in range(n):  # once per dataset build, not a hot path
-        t = series["t"][i]
-        if t.size < 2 or np.any(np.diff(t) <= 0):
-            raise DataError(cols["key"][i], "series time is not strictly increasing")
-        channels = {c: series[c][i] for c in CHANNELS}
-        s = resample(channels, cols["T3"][i], settings.hold, settings.seq_len, landing_start)
-        for name, values in s.items():
-            seqs[name][i] = values
+    seqs = _sequences(ok, cols["key"], cols["T3"], settings, landing_start)
     sources = cols["source"]
-    trainable = [i for i, src in enumerate(sources) if not src.startswith("baseline:")]
-    labels = ["baseline"] * n
-    for i, lab in zip(
-        trainable,
-        split([cols["key"][i] for i in trainable], settings.validation_fraction, seed),
-        strict=True,
-    ):
-        labels[i] = lab
+    labels = _labels(cols["key"], sources, settings.validation_fraction, seed)
     train = np.array([lab == "train" for lab in labels])
     if not train.any():
         raise DataError("dataset", "no training samples (only baselines?)")
@@ -205,6 +188,38 @@ def build(
         **{k: list(v.astype(np.float32)) for k, v in seqs.items()},
     }
     return pa.Table.from_pydict(data, schema=schema(settings.seq_len)), norm
+
+
+def _sequences(
+    ok: pa.Table,
+    keys: list[str],
+    T3: list[float],
+    settings: config.Dataset,
+    landing_start: float | None,
+) -> dict[str, Array]:
+    """Every sample's resampled sequences (:func:`resample`), stacked by name (n, seq_len); a
+    sample whose time does not strictly increase is refused by key."""
+    series = {c: list_column(ok, c) for c in CHANNELS}
+    n = ok.num_rows
+    seqs = {name: np.empty((n, settings.seq_len)) for name in ("t", *INPUTS, *TARGETS)}
+    for i in range(n):  # once per dataset build, not a hot path
+        t = series["t"][i]
+        if t.size < 2 or np.any(np.diff(t) <= 0):
+            raise DataError(keys[i], "series time is not strictly increasing")
+        channels = {c: series[c][i] for c in CHANNELS}
+        s = resample(channels, T3[i], settings.hold, settings.seq_len, landing_start)
+        for name, values in s.items():
+            seqs[name][i] = values
+    return seqs
+
+
+def _labels(keys: list[str], sources: list[str], fraction: float, seed: int) -> list[str]:
+    """Each sample's split: baselines stay ``baseline``, the rest are :func:`split`."""
+    trainable = [i for i, src in enumerate(sources) if not src.startswith("baseline:")]
+    labels = ["baseline"] * len(keys)
+    for i, lab in zip(trainable, split([keys[i] for i in trainable], fraction, seed), strict=True):
+        labels[i] = lab
+    return labels
 
 
 def assemble(

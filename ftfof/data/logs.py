@@ -72,13 +72,7 @@ def parse(
     whose time or length unit is off by a thousand is refused: it would import a step of a
     millisecond, or a foot at a hundred metres a second."""
     cols = _columns(df, fmt, source)
-    values = {}
-    for quantity, (header, scale) in cols.items():
-        v = pd.to_numeric(df[header], errors="coerce").to_numpy(dtype=float)
-        bad = np.flatnonzero(~np.isfinite(v))
-        if bad.size:
-            raise DataError(source, f"row {bad[0] + 2}, column {header!r}: not a finite number")
-        values[quantity] = v * scale
+    values = _values(df, cols, source)
     t = values["time"]
     if t.size < 2:
         raise DataError(source, "row 2: a log needs at least two rows")
@@ -89,9 +83,39 @@ def parse(
     if duration is not None and max_speed is not None:
         _plausible(t, values["x"], values["z"], cols, duration, max_speed, source)
     fz = values["Fz"] if fmt.tension_positive else -values["Fz"]
+    channels = _channels(values, fz)
+    assert set(channels) == set(CHANNELS)
+    scalars = {
+        "peak_detachment": float(channels["Fd"].max()),
+        "peak_pre_pressure": float(channels["Fp"].max()),
+        **force_peaks(channels["Fx_pad"], fz, np.ones_like(t, dtype=bool)),
+    }
+    result = SampleResult(f"imported:{name}", "imported", sample_id, Status.OK, "", 0.0, channels)
+    result.scalars = scalars
+    return result
+
+
+def _values(
+    df: pd.DataFrame, cols: dict[str, tuple[str, float]], source: str
+) -> dict[str, np.ndarray]:
+    """Each quantity's column in SI; a cell that is not a finite number is refused by row."""
+    values = {}
+    for quantity, (header, scale) in cols.items():
+        v = pd.to_numeric(df[header], errors="coerce").to_numpy(dtype=float)
+        bad = np.flatnonzero(~np.isfinite(v))
+        if bad.size:
+            raise DataError(source, f"row {bad[0] + 2}, column {header!r}: not a finite number")
+        values[quantity] = v * scale
+    return values
+
+
+def _channels(values: dict[str, np.ndarray], fz: np.ndarray) -> dict[str, np.ndarray]:
+    """The acquisition channels of a log (tension-positive ``fz``): the commanded path is the
+    measured one, and what a force log does not see is NaN."""
+    t = values["time"]
     nan = np.full_like(t, np.nan)
     x, z = values["x"], values["z"]
-    channels = {
+    return {
         "t": t - t[0],
         "x_cmd": x,
         "z_cmd": z,
@@ -109,15 +133,6 @@ def parse(
         "film_curvature": nan,  # a force log does not see the film
         "film_clearance": nan,
     }
-    assert set(channels) == set(CHANNELS)
-    scalars = {
-        "peak_detachment": float(channels["Fd"].max()),
-        "peak_pre_pressure": float(channels["Fp"].max()),
-        **force_peaks(channels["Fx_pad"], fz, np.ones_like(t, dtype=bool)),
-    }
-    result = SampleResult(f"imported:{name}", "imported", sample_id, Status.OK, "", 0.0, channels)
-    result.scalars = scalars
-    return result
 
 
 def _plausible(

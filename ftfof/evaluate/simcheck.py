@@ -4,6 +4,8 @@ real foot would not survive, whatever the surrogates predicted (issue: film safe
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -16,6 +18,9 @@ from ftfof.robot import RobotContext
 from ftfof.seeds import seed_for
 from ftfof.sim.spec import Bench
 from ftfof.trajectory.policy import ConstraintPolicy
+
+if TYPE_CHECKING:
+    from ftfof.sim.records import SampleResult
 
 MEASURED = (
     "min_bend_radius",
@@ -57,37 +62,31 @@ def simulator_check(
     the pad lets go cleanly, the film stays at or above its safety limit, the landing presses
     within the robot's tolerance of a, the body shakes no harder than the robot's limit) and
     every objective is finite."""
-    from ftfof.sim.pool import run_local
-    from ftfof.sim.records import SampleResult
+    force_t = targets.time_base(ctx.policy.timing.T3, dataset.hold, dataset.seq_len)
+    return _Check(on, ctx, cfg, dataset.hold, force_t, search_seed, workers)
 
-    d = dataset
-    force_t = targets.time_base(ctx.policy.timing.T3, d.hold, d.seq_len)
-    rules = ctx.rules
 
-    off_mm = 1e3 * cfg.verify_repeatability
-    policy = ctx.policy
+@dataclass(frozen=True, eq=False)
+class _Check:
+    """:func:`simulator_check`'s check: the runs of each row, simulated together, judged one by
+    one and combined per row."""
 
-    def runs_of(row: int, X: np.ndarray) -> list[np.ndarray]:
-        rng = np.random.default_rng(seed_for(search_seed, "verify", row))
-        return perturbed_runs(policy, X, cfg.verify_repeatability, cfg.verify_copies, rng)
+    on: Bench
+    ctx: RobotContext
+    cfg: Optimize
+    hold: float
+    force_t: np.ndarray  # the surrogate targets' time base the objectives read
+    search_seed: int
+    workers: int
 
-    def judged(runs: dict[tuple[int, int], np.ndarray]) -> dict[tuple[int, int], Verdict]:
-        """Each (row, run)'s verdict, the runs simulated together."""
-        specs = {(row, k): on.bezier(f"verify{k}", row, x) for (row, k), x in runs.items()}
-        batches = run_local(list(specs.values()), workers) if specs else []
-        done = {r.key: r for batch in batches for r in batch}
-        return {
-            (row, k): judge(row, runs[row, k], done[spec.key]) for (row, k), spec in specs.items()
-        }
-
-    def check(rows: Sequence[int], X: np.ndarray) -> list[Verdict]:
+    def __call__(self, rows: Sequence[int], X: np.ndarray) -> list[Verdict]:
         if len(set(rows)) != len(rows):
             raise ValueError(f"the simulator check takes each row once (got {list(rows)})")
-        runs = {row: runs_of(row, x) for row, x in zip(rows, X, strict=True)}
+        runs = {row: self._runs_of(row, x) for row, x in zip(rows, X, strict=True)}
         # the nominal runs first: a row they refuse is refused whatever its copies do, so its
         # copies are not simulated (the same verdicts, a third of a refused row's runs)
-        nominal = judged({(row, 0): xs[0] for row, xs in runs.items()})
-        copies = judged(
+        nominal = self._judged({(row, 0): xs[0] for row, xs in runs.items()})
+        copies = self._judged(
             {
                 (row, k): x
                 for row, xs in runs.items()
@@ -96,16 +95,34 @@ def simulator_check(
             }
         )
         return [
-            combine(row, [nominal[row, 0], *(copies[row, k] for k in range(1, len(xs)))])
+            self._combine(row, [nominal[row, 0], *(copies[row, k] for k in range(1, len(xs)))])
             if nominal[row, 0].ok
             else nominal[row, 0]
             for row, xs in runs.items()
         ]
 
-    def combine(row: int, verdicts: list[Verdict]) -> Verdict:
+    def _runs_of(self, row: int, X: np.ndarray) -> list[np.ndarray]:
+        rng = np.random.default_rng(seed_for(self.search_seed, "verify", row))
+        cfg = self.cfg
+        return perturbed_runs(self.ctx.policy, X, cfg.verify_repeatability, cfg.verify_copies, rng)
+
+    def _judged(self, runs: dict[tuple[int, int], np.ndarray]) -> dict[tuple[int, int], Verdict]:
+        """Each (row, run)'s verdict, the runs simulated together."""
+        from ftfof.sim.pool import run_local
+
+        specs = {(row, k): self.on.bezier(f"verify{k}", row, x) for (row, k), x in runs.items()}
+        batches = run_local(list(specs.values()), self.workers) if specs else []
+        done = {r.key: r for batch in batches for r in batch}
+        return {
+            (row, k): self._judge(row, runs[row, k], done[spec.key])
+            for (row, k), spec in specs.items()
+        }
+
+    def _combine(self, row: int, verdicts: list[Verdict]) -> Verdict:
         """The row (its nominal run passed) passes when every copy passes; its objectives are
         the mean over the runs."""
         nominal, *copies = verdicts
+        off_mm = 1e3 * self.cfg.verify_repeatability
         for k, copy in enumerate(copies, start=1):
             if not copy.ok:
                 reason = (
@@ -119,12 +136,13 @@ def simulator_check(
             row, True, "", nominal.measured, values.mean(axis=0).tolist(), spread, len(verdicts)
         )
 
-    def judge(row: int, X: np.ndarray, result: SampleResult) -> Verdict:
+    def _judge(self, row: int, X: np.ndarray, result: SampleResult) -> Verdict:
+        ctx = self.ctx
         measured = {k: float(result.scalars[k]) for k in MEASURED if k in result.scalars}
         if not result.ok:
             return Verdict(row, False, f"simulation failed: {result.error}", measured)
         c = result.channels
-        faults = foot_faults(c["t"], c["bonds"], c["Fp"], measured, rules)
+        faults = foot_faults(c["t"], c["bonds"], c["Fp"], measured, ctx.rules)
         measured["landing_held_pressure"] = faults.held_press
         if faults.release:
             pull = measured["peak_pull"]
@@ -132,7 +150,13 @@ def simulator_check(
         if faults.first:
             return Verdict(row, False, faults.first, measured)
         objectives = simulated_objectives(
-            ctx.robot.objectives, ctx.policy, X, [c], force_t, d.hold, ctx.robot.pre_pressure
+            ctx.robot.objectives,
+            ctx.policy,
+            X,
+            [c],
+            self.force_t,
+            self.hold,
+            ctx.robot.pre_pressure,
         )[0]
         broken = [
             n for n, v in zip(ctx.robot.objectives, objectives, strict=True) if not np.isfinite(v)
@@ -140,5 +164,3 @@ def simulator_check(
         if broken:
             return Verdict(row, False, f"no finite {', '.join(broken)} from its forces", measured)
         return Verdict(row, True, "", measured, [float(v) for v in objectives])
-
-    return check

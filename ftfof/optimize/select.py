@@ -101,20 +101,7 @@ def choose(
     """
     policy = ctx.policy
     if not result.feasible:
-        least = problem.evaluate_population(result.X[:1])
-        worst = policy.check(least.X).failed(0)
-        worst += [
-            f"{name} (predicted g = {float(g[0]):.3g})"
-            for name, g in least.physical.items()
-            if g[0] > 0
-        ]
-        raise OptimizationError(
-            "optimize",
-            f"no feasible trajectory after {result.generations} generations; the least "
-            f"infeasible violates {'; '.join(worst[:3])} (try optimize.seeded_start: true or "
-            "more generations; a physical limit the surrogate predicts nowhere met needs a "
-            "surrogate trained on more data)",
-        )
+        raise _none_feasible(problem, policy, result)
     order = np.lexsort(result.F.T[::-1])  # priority order: first objective is the primary key
     free = result.X[order]
     size = len(free)
@@ -134,20 +121,54 @@ def choose(
             f"{cfg.recheck_samples} samples (first: {'; '.join(recheck.failed(0)[:3])})",
         )
     index, rhs, candidates, verdicts = verified_rhs(
-        evaluation.F,
-        evaluation.X,
-        members,
-        cfg,
-        check,
-        limit,
-        nominated,
+        evaluation.F, evaluation.X, members, cfg, check, limit, nominated
     )
-    names = list(ctx.robot.objectives)
-    final = result.history[-1]
     summary = {
+        **_search_summary(cfg, surface, ctx, problem, result),
+        "front": {
+            "size": size,
+            "passing_recheck": int(members.size),
+            "rejected_by_recheck": int(size - members.size),
+            "recheck_samples": cfg.recheck_samples,
+        },
+        "nominated": {"size": len(free) - size, "passing_recheck": int(nominated.size)},
+        "optimum": _optimum_summary(list(ctx.robot.objectives), evaluation, index, rhs, origin),
+        "simulator_check": [v.__dict__ for v in verdicts],
+        "models_digest": models_digest,
+    }
+    return Outcome(evaluation, recheck, passing, index, rhs, candidates, summary, verdicts, origin)
+
+
+def _none_feasible(
+    problem: TrajectoryProblem, policy: ConstraintPolicy, result: SearchResult
+) -> OptimizationError:
+    """The error of a search that found no feasible trajectory, naming what the least infeasible
+    one violates (the robot's rules, then the predicted physical limits)."""
+    least = problem.evaluate_population(result.X[:1])
+    worst = policy.check(least.X).failed(0)
+    worst += [
+        f"{name} (predicted g = {float(g[0]):.3g})"
+        for name, g in least.physical.items()
+        if g[0] > 0
+    ]
+    return OptimizationError(
+        "optimize",
+        f"no feasible trajectory after {result.generations} generations; the least "
+        f"infeasible violates {'; '.join(worst[:3])} (try optimize.seeded_start: true or "
+        "more generations; a physical limit the surrogate predicts nowhere met needs a "
+        "surrogate trained on more data)",
+    )
+
+
+def _search_summary(
+    cfg: Optimize, surface: str, ctx: RobotContext, problem: TrajectoryProblem, result: SearchResult
+) -> dict[str, Any]:
+    """The summary's account of the search: what was searched, how long, how it converged."""
+    final = result.history[-1]
+    return {
         "robot": ctx.name,
         "surface": surface,
-        "objectives": names,
+        "objectives": list(ctx.robot.objectives),
         "population": cfg.population,
         "generations": result.generations,
         "evaluations": result.evaluations,
@@ -156,27 +177,27 @@ def choose(
         "hypervolume": final.hypervolume,
         "feasible_in_final_population": final.feasible,
         "physical_limits": list(problem.physical),
-        "front": {
-            "size": size,
-            "passing_recheck": int(members.size),
-            "rejected_by_recheck": int(size - members.size),
-            "recheck_samples": cfg.recheck_samples,
-        },
-        "nominated": {"size": len(free) - size, "passing_recheck": int(nominated.size)},
-        "optimum": {
-            "row": index,
-            "objectives": dict(zip(names, map(float, evaluation.F[index]), strict=True)),
-            "decision_mm": {
-                n: round(1e3 * float(v), 4)
-                for n, v in zip(DECISION_NAMES, evaluation.X[index], strict=True)
-            },
-            "rhs_tie_break": rhs.tie_break,
-            "origin": origin[index],
-        },
-        "simulator_check": [v.__dict__ for v in verdicts],
-        "models_digest": models_digest,
     }
-    return Outcome(evaluation, recheck, passing, index, rhs, candidates, summary, verdicts, origin)
+
+
+def _optimum_summary(
+    names: list[str],
+    evaluation: PopulationEvaluation,
+    index: int,
+    rhs: RHSResult,
+    origin: list[str],
+) -> dict[str, Any]:
+    """The chosen row in the summary: its predicted objectives and control values (mm)."""
+    return {
+        "row": index,
+        "objectives": dict(zip(names, map(float, evaluation.F[index]), strict=True)),
+        "decision_mm": {
+            n: round(1e3 * float(v), 4)
+            for n, v in zip(DECISION_NAMES, evaluation.X[index], strict=True)
+        },
+        "rhs_tie_break": rhs.tie_break,
+        "origin": origin[index],
+    }
 
 
 def fine_policy(ctx: RobotContext, recheck_samples: int) -> ConstraintPolicy:

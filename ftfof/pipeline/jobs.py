@@ -13,8 +13,8 @@ from __future__ import annotations
 import json
 import shutil
 import time
-from collections.abc import Callable, Iterator, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -25,6 +25,7 @@ from ftfof.config import Params
 from ftfof.data.acquisition import (
     ACQUISITION,
     PENDING,
+    canonical_rows,
     check_complete,
     check_failures,
     sampled_specs,
@@ -56,7 +57,6 @@ class Acquisition:
     specs: list[SampleSpec]
     controls: dict[str, np.ndarray]
     key: str
-    written: list[str] = field(default_factory=list)
 
     @classmethod
     def prepare(
@@ -141,18 +141,6 @@ class Acquisition:
         done = self.done_keys()
         return [s for s in self.specs if s.key not in done]
 
-    def run(
-        self, todo: Sequence[SampleSpec], workers: int, address: str | None
-    ) -> Iterator[list[SampleResult]]:
-        """Simulate ``todo`` and persist each finished batch before yielding it; a stop request
-        (:mod:`ftfof.pipeline.interrupt`) ends the run after the batch just written."""
-        cfg = self.params.acquire
-        with interrupt.deferred():
-            for results in pool.run(todo, workers, cfg.batch, address):
-                self._write_part(results)
-                interrupt.check()
-                yield results
-
     def simulate(
         self,
         todo: Sequence[SampleSpec],
@@ -161,53 +149,45 @@ class Acquisition:
         label: str,
         on_batch: Callable[[int, float], None] | None = None,
     ) -> float:
-        """Run ``todo`` with a progress bar (already-done samples count as complete); wall time.
-        ``on_batch`` hears the samples finished and the seconds taken after each batch."""
+        """Run ``todo`` with a progress bar (already-done samples count as complete), persisting
+        each finished batch; wall time. ``on_batch`` hears the samples finished and the seconds
+        taken after each batch; a stop request (:mod:`ftfof.pipeline.interrupt`) ends the run
+        after the batch just written."""
         started = time.perf_counter()
         with progress(label) as bar:
             total, done = len(self.specs), len(self.specs) - len(todo)
             task = bar.add_task(label, total=total, completed=done, resumed=done, info="")
             finished = 0
-            for results in self.run(todo, workers, address):
-                finished += len(results)
-                elapsed = time.perf_counter() - started
-                rate = finished / max(elapsed, 1e-9)
-                bar.update(task, advance=len(results), info=f"{rate:.2f} samples/s")
-                if on_batch is not None:
-                    on_batch(finished, elapsed)
+            with interrupt.deferred():
+                for results in pool.run(todo, workers, self.params.acquire.batch, address):
+                    self._write_part(results)
+                    interrupt.check()
+                    finished += len(results)
+                    elapsed = time.perf_counter() - started
+                    rate = finished / max(elapsed, 1e-9)
+                    bar.update(task, advance=len(results), info=f"{rate:.2f} samples/s")
+                    if on_batch is not None:
+                        on_batch(finished, elapsed)
         return time.perf_counter() - started
 
     def _write_part(self, results: Sequence[SampleResult]) -> None:
-        table = self._table(results)
+        T3 = self.ctx.robot.timing.T3
+        table = to_table(results, self.ctx.name, self.params.surface, self.controls, T3)
         name = bytes_sha256("|".join(sorted(r.key for r in results)).encode(), 16)
         write_parquet(self.pending / f"part-{name}.parquet", table)
-
-    def _table(self, results: Sequence[SampleResult]) -> pa.Table:
-        return to_table(
-            results,
-            self.ctx.name,
-            self.params.surface,
-            self.controls,
-            self.ctx.robot.timing.T3,
-        )
 
     # --- completion ---------------------------------------------------------------------------
 
     def collect(self) -> pa.Table:
         parts = [pq.read_table(p) for p in self._parts()]
         table = pa.concat_tables(parts).cast(PENDING) if parts else PENDING.empty_table()
-        wanted = {s.key for s in self.specs}
-        mask = pa.compute.is_in(table.column("key"), pa.array(sorted(wanted)))
-        table = table.filter(mask)
-        order = np.argsort(np.array(table.column("key").to_pylist(), dtype=object), kind="stable")
-        return table.take(pa.array(order))
+        return canonical_rows(table, {s.key for s in self.specs})
 
     def finish(self, wall: float, simulated: int, timing: Path | None = None) -> dict[str, object]:
         table = self.collect()
         check_complete(table, len(self.specs), str(self.out))
-        limit = self.ctx.rules.film
         clearance = self.ctx.robot.foot.swing_clearance
-        summary = summarize(table, limit, clearance, wall, simulated)
+        summary = summarize(table, self.ctx.rules.film, clearance, wall, simulated)
         check_failures(table, self.params.acquire.max_failure_rate)
         if timing is not None:
             with atomic_path(timing) as tmp:

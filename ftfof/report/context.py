@@ -103,29 +103,47 @@ def report_context(
 ) -> dict[str, Any]:
     """The report template's values and the figures drawn from the simulations, but for the
     stages' own figures and the export path (``climb_steps``: the climbs' planned steps)."""
-    import exudyn
-
-    summary, rows, fid, predicted, simulated = (
-        ev.summary,
-        ev.rows,
-        ev.fidelity,
-        ev.predicted,
-        ev.simulated,
-    )
-    export = summary["export"]
     return {
         "figures": simulation_figures(
-            ev.table, predicted, simulated, inputs.objectives, reference, rows, ev.candidates
+            ev.table,
+            ev.predicted,
+            ev.simulated,
+            inputs.objectives,
+            reference,
+            ev.rows,
+            ev.candidates,
         ),
+        **_run_context(ctx, surface, inputs, reference),
+        **_choice_and_tables(ev, ctx, inputs, reference),
+        **_climb_context(ev.summary, ev.rows, climb_steps, ctx),
+        "fidelity": [{"objective": f.objective, **f.as_dict()} for f in ev.fidelity],
+        "front_points": len(ev.predicted) - 1,
+        "objectives": inputs.objectives,
+        "optimum_predicted": ev.predicted[0].tolist(),
+        "optimum_simulated": ev.simulated[0].tolist(),
+        "pareto": PARETO,
+        "training": TRAINING,
+        "refinement": REFINEMENT,
+        "export": _export_context(ev.summary["export"], ctx),
+    }
+
+
+def _run_context(ctx: RobotContext, surface: str, inputs: Inputs, reference: str) -> dict[str, Any]:
+    """What was run: robot, surface, models and simulator, the optimum's row and the front's
+    make-up; the Table I columns in display units."""
+    import exudyn
+
+    origin = inputs.front.origin
+    return {
         "robot": ctx.name,
         "surface": surface,
         "models_digest": inputs.optimum["models_digest"],
         "exudyn": exudyn.__version__,
         "optimum_row": inputs.optimum["front_row"],
         "optimum_origin": inputs.optimum["origin"],
-        "front_size": int((inputs.front.origin == FRONT).sum()),
-        "nominees": int(((inputs.front.origin != FRONT) & (inputs.front.origin != POLISH)).sum()),
-        "polished": int((inputs.front.origin == POLISH).sum()),
+        "front_size": int((origin == FRONT).sum()),
+        "nominees": int(((origin != FRONT) & (origin != POLISH)).sum()),
+        "polished": int((origin == POLISH).sum()),
         "reference": reference,
         "columns": [
             {
@@ -135,6 +153,16 @@ def report_context(
             }
             for c, label, unit in COLUMNS
         ],
+    }
+
+
+def _choice_and_tables(
+    ev: Evaluation, ctx: RobotContext, inputs: Inputs, reference: str
+) -> dict[str, Any]:
+    """The front's simulations, the choice, the tables against the reference and the published
+    optimum, the step and film checks."""
+    summary, rows = ev.summary, ev.rows
+    return {
         "front_simulated": summary["front_simulated"],
         "choice": _choice_context(
             inputs.optimum["rhs"], ev.candidates, inputs.objectives[0], summary["choice"]
@@ -164,6 +192,14 @@ def report_context(
             {"trajectory": r.trajectory, "values": r.values, "change": r.change} for r in rows
         ],
         "paper": summary["paper_optimal_change_vs_polynomial"],
+    }
+
+
+def _climb_context(
+    summary: Mapping[str, Any], rows: list[TableRow], climb_steps: int, ctx: RobotContext
+) -> dict[str, Any]:
+    """The climbs' rows (of ``climb_steps`` planned steps) and the trajectories not climbed."""
+    return {
         "climb": climb_rows(
             summary.get("climb", {}),
             rows,
@@ -172,22 +208,18 @@ def report_context(
         ),
         "climb_skipped": summary.get("climb", {}).get("not_climbed", {}),
         "climb_steps": climb_steps,
-        "fidelity": [{"objective": f.objective, **f.as_dict()} for f in fid],
-        "front_points": len(predicted) - 1,
-        "objectives": inputs.objectives,
-        "optimum_predicted": predicted[0].tolist(),
-        "optimum_simulated": simulated[0].tolist(),
-        "pareto": PARETO,
-        "training": TRAINING,
-        "refinement": REFINEMENT,
-        "export": {
-            "rows": export["rows"],
-            "rate": export["rate_hz"],
-            "duration": float(ctx.policy.timing.T3),
-            "leg": ctx.robot.leg.type,
-            "within_limits": export["within_joint_limits"],
-            "peak_speed": ", ".join(f"{v:.2f}" for v in export["peak_joint_speed"]),
-        },
+    }
+
+
+def _export_context(export: Mapping[str, Any], ctx: RobotContext) -> dict[str, Any]:
+    """The controller export in the template's terms: rows, rate, duration, leg and limits."""
+    return {
+        "rows": export["rows"],
+        "rate": export["rate_hz"],
+        "duration": float(ctx.policy.timing.T3),
+        "leg": ctx.robot.leg.type,
+        "within_limits": export["within_joint_limits"],
+        "peak_speed": ", ".join(f"{v:.2f}" for v in export["peak_joint_speed"]),
     }
 
 

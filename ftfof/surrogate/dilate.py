@@ -55,7 +55,38 @@ def _sweeps(pt, yt, gamma, want_grad, values, grad_s, grad_t, E):  # pragma: no 
     """pt (m, d, B) predictions, yt (n, d, B) targets; fills values (2, B) = (soft-DTW,
     <A*, Omega>), E (n + m + 3, n + 2, B) = the alignment, and if ``want_grad`` the gradients
     (m, d, B) of the soft-DTW and of <A*, Omega> w.r.t. the predictions."""
-    m, d, B = pt.shape
+    m = pt.shape[0]
+    n = yt.shape[0]
+    W = _soft_dtw(pt, yt, gamma, values)
+    _alignment(W, n, m, E)
+    _omega_inner(E, n, m, values)
+    if not want_grad:
+        return
+    Rd = _directional(W, n, m)
+    G = _hessian_omega(W, E, Rd, n, m, 1.0 / gamma)
+    _prediction_gradients(pt, yt, E, G, grad_s, grad_t)
+
+
+@numba.njit(**KERNEL)
+def _squared_distances(pt, yt, k, i0, i1, Dk):  # pragma: no cover - compiled
+    """D[i, k - i] for the cells i0..i1 of diagonal ``k``, cell-major then batch, into Dk."""
+    d, B = pt.shape[1], pt.shape[2]
+    for ii in range(i1 - i0 + 1):
+        i = i0 + ii
+        j = k - i
+        for b in range(B):
+            acc = 0.0
+            for c in range(d):
+                diff = yt[i - 1, c, b] - pt[j - 1, c, b]
+                acc += diff * diff
+            Dk[ii * B + b] = acc
+
+
+@numba.njit(**KERNEL)
+def _soft_dtw(pt, yt, gamma, values):  # pragma: no cover - compiled
+    """The forward sweep: values[0] = R[n, m] per series; returns the softmin weights W (3, K,
+    rows, B) of each cell's three predecessors, which every later sweep reads."""
+    m, _, B = pt.shape
     n = yt.shape[0]
     K = n + m + 3
     rows = n + 2
@@ -68,15 +99,7 @@ def _sweeps(pt, yt, gamma, want_grad, values, grad_s, grad_t, E):  # pragma: no 
         i0 = max(1, k - m)
         i1 = min(n, k - 1)
         L = (i1 - i0 + 1) * B
-        for ii in range(i1 - i0 + 1):
-            i = i0 + ii
-            j = k - i
-            for b in range(B):
-                acc = 0.0
-                for c in range(d):
-                    diff = yt[i - 1, c, b] - pt[j - 1, c, b]
-                    acc += diff * diff
-                Dk[ii * B + b] = acc
+        _squared_distances(pt, yt, k, i0, i1, Dk)
         cur = R[k % 3]
         cur[:, :] = np.inf
         r2 = R[(k - 2) % 3].reshape(-1)[(i0 - 1) * B :]
@@ -102,7 +125,13 @@ def _sweeps(pt, yt, gamma, want_grad, values, grad_s, grad_t, E):  # pragma: no 
     last = R[(n + m) % 3]
     for b in range(B):
         values[0, b] = last[n, b]
-    # Alignment E = dR[n, m]/dD: E[k, i] = sum over successors of E[s] * (weight of (i, j) in s).
+    return W
+
+
+@numba.njit(**KERNEL)
+def _alignment(W, n, m, E):  # pragma: no cover - compiled
+    """E = dR[n, m]/dD: E[k, i] = sum over successors of E[s] * (weight of (i, j) in s)."""
+    B = E.shape[2]
     E[:, :, :] = 0.0
     E[n + m, n, :] = 1.0
     for k in range(n + m - 1, 1, -1):
@@ -117,6 +146,12 @@ def _sweeps(pt, yt, gamma, want_grad, values, grad_s, grad_t, E):  # pragma: no 
         v2 = W[2, k + 1].reshape(-1)[i0 * B :]
         for q in range(L):
             e0[q] = e2[q + B] * v0[q + B] + e1[q + B] * v1[q + B] + e1[q] * v2[q]
+
+
+@numba.njit(**KERNEL)
+def _omega_inner(E, n, m, values):  # pragma: no cover - compiled
+    """values[1] = <A*, Omega> per series."""
+    B = E.shape[2]
     for b in range(B):
         values[1, b] = 0.0
     for k in range(2, n + m + 1):
@@ -124,11 +159,12 @@ def _sweeps(pt, yt, gamma, want_grad, values, grad_s, grad_t, E):  # pragma: no 
             z = float((2 * i - k) ** 2)  # Omega = (i - j)^2
             for b in range(B):
                 values[1, b] += z * E[k, i, b]
-    if not want_grad:
-        return
-    # Directional derivative of R along Omega (same weights), then its gradient w.r.t. D:
-    # G = H Omega. For a successor s of cell c with weight w:
-    #   dR'[s]/dR[c] = -w (R'[c] - (R'[s] - Omega[s])) / gamma.
+
+
+@numba.njit(**KERNEL)
+def _directional(W, n, m):  # pragma: no cover - compiled
+    """R' = the directional derivative of R along Omega (the same softmin weights)."""
+    _, K, rows, B = W.shape
     Rd = np.zeros((K, rows, B))
     for k in range(2, n + m + 1):
         for i in range(max(1, k - m), min(n, k - 1) + 1):
@@ -140,6 +176,14 @@ def _sweeps(pt, yt, gamma, want_grad, values, grad_s, grad_t, E):  # pragma: no 
                     + W[1, k, i, b] * Rd[k - 1, i - 1, b]
                     + W[2, k, i, b] * Rd[k - 1, i, b]
                 )
+    return Rd
+
+
+@numba.njit(**KERNEL)
+def _hessian_omega(W, E, Rd, n, m, ig):  # pragma: no cover - compiled
+    """G = H Omega, the gradient of R'[n, m] w.r.t. D. For a successor s of cell c with weight
+    w: dR'[s]/dR[c] = -w (R'[c] - (R'[s] - Omega[s])) / gamma."""
+    _, K, rows, B = W.shape
     G = np.zeros((K, rows, B))
     for k in range(n + m - 1, 1, -1):
         for i in range(max(1, k - m), min(n, k - 1) + 1):
@@ -162,7 +206,14 @@ def _sweeps(pt, yt, gamma, want_grad, values, grad_s, grad_t, E):  # pragma: no 
                     + W[2, k + 1, i, b]
                     * (G[k + 1, i, b] - E[k + 1, i, b] * (rd - Rd[k + 1, i, b] + z2) * ig)
                 )
-    # dD[i, j]/dpred[j] = 2 (pred[j] - target[i])
+    return G
+
+
+@numba.njit(**KERNEL)
+def _prediction_gradients(pt, yt, E, G, grad_s, grad_t):  # pragma: no cover - compiled
+    """Chain rule to the predictions: dD[i, j]/dpred[j] = 2 (pred[j] - target[i])."""
+    m, d, B = pt.shape
+    n = yt.shape[0]
     grad_s[:, :, :] = 0.0
     grad_t[:, :, :] = 0.0
     for k in range(2, n + m + 1):

@@ -71,12 +71,7 @@ def train_all(
     blended with their broad GP or, without one, with the GRU's maximum. ``on_epoch(loss,
     epoch)`` is called as each model finishes an epoch (a progress bar), also from workers.
     """
-    jobs = [{"kind": k, "seed": seed_for(search_seed, "train", 0)} for k in cfg.losses]
-    if warm_start is not None:
-        for job in jobs:
-            if job["kind"] not in warm_start:
-                raise DataError("warm start", f"no weights for the {job['kind']} loss")
-            job["warm_start"] = warm_start[job["kind"]]
+    jobs = _jobs(cfg, search_seed, warm_start)
     started = time.perf_counter()
     previous = dict(peaks_from or {})
     if cfg.parallel and cfg.peaks and not previous:
@@ -96,6 +91,32 @@ def train_all(
         results = run_jobs(jobs, data, cfg, on_epoch)
         peaks = fit_peaks(data, cfg.peaks, previous, near_front_peaks)
     wall = time.perf_counter() - started
+    return Training(results, peaks, _summary(cfg, data, results, peaks, wall), wall)
+
+
+def _jobs(
+    cfg: Train, search_seed: int, warm_start: Mapping[str, dict[str, np.ndarray]] | None
+) -> list[dict]:
+    """One job per loss, all on the same seed; each with its loss's ``warm_start`` weights (a
+    loss without them is an error)."""
+    jobs = [{"kind": k, "seed": seed_for(search_seed, "train", 0)} for k in cfg.losses]
+    if warm_start is not None:
+        for job in jobs:
+            if job["kind"] not in warm_start:
+                raise DataError("warm start", f"no weights for the {job['kind']} loss")
+            job["warm_start"] = warm_start[job["kind"]]
+    return jobs
+
+
+def _summary(
+    cfg: Train,
+    data: TrainingData,
+    results: list[dict],
+    peaks: Mapping[str, PeakPredictor],
+    wall: float,
+) -> dict[str, Any]:
+    """The stage's metrics: each model's epochs and validation metrics, the peak models beside
+    the ``cfg.use`` GRU's series maximum, and the wall time."""
     summary: dict[str, Any] = {
         r["kind"]: {
             "epochs": len(r["history"]["train"]),
@@ -112,7 +133,7 @@ def train_all(
     summary["peaks"] = {n: peak_metrics(m, data, use) for n, m in peaks.items()}
     summary["peaks_not_fitted"] = [n for n in cfg.peaks if n not in peaks]
     summary["wall_seconds"] = round(wall, 2)
-    return Training(results, peaks, summary, wall)
+    return summary
 
 
 def fit_peaks(

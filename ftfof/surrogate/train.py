@@ -38,6 +38,7 @@ Array = NDArray[np.float64]
 DTW_GAMMA = 1e-4  # soft-DTW this sharp is hard DTW to within its smoothing
 LOSSES: tuple[str, ...] = get_args(config.Loss)
 DILATE_TARGETS = ("pull", "Fd", "Fp")  # the force series; every other target trains on MSE
+Criterion = Callable[[torch.Tensor, torch.Tensor], torch.Tensor]  # (pred, target) -> loss
 
 
 @dataclass
@@ -61,9 +62,7 @@ def masked_mse(pred: torch.Tensor, target: torch.Tensor) -> torch.Tensor:
     return (diff**2).sum(dim=(0, 1)) / mask.sum(dim=(0, 1)).clamp(min=1)
 
 
-def loss_fn(
-    kind: str, settings: config.Train, targets: Sequence[str]
-) -> Callable[[torch.Tensor, torch.Tensor], torch.Tensor]:
+def loss_fn(kind: str, settings: config.Train, targets: Sequence[str]) -> Criterion:
     """The training criterion ``kind`` over (B, N, K) predictions and targets (NaN = missing);
     an unknown name is an error, never a silent MSE."""
     if kind == "mse":
@@ -108,18 +107,7 @@ def train_model(
     import time
 
     started = time.perf_counter()
-    torch.manual_seed(seed)
-    torch.use_deterministic_algorithms(True)
-    model = ForceGRU(
-        ModelConfig(
-            hidden=settings.hidden,
-            layers=settings.layers,
-            dropout=settings.dropout,
-            outputs=len(targets),
-        )
-    )
-    if warm_start is not None:
-        model.load_state_dict({k: torch.as_tensor(np.asarray(v)) for k, v in warm_start.items()})
+    model = _initial_model(settings, len(targets), seed, warm_start)
     opt = Adam(model.parameters(), lr=settings.lr, weight_decay=settings.weight_decay)
     crit = loss_fn(kind, settings, targets)
     xt, yt = torch.tensor(x_train), torch.tensor(y_train)
@@ -128,26 +116,11 @@ def train_model(
     history = History()
     best, best_state, waited = np.inf, copy.deepcopy(model.state_dict()), 0
     if warm_start is not None:
-        model.eval()
-        with torch.no_grad():
-            best = float(crit(model(xv), yv))
+        best = _validation_loss(model, crit, xv, yv)
         history.best_epoch = -1
     for epoch in range(settings.epochs):
-        model.train()
-        order = torch.randperm(len(xt), generator=gen)
-        total, count = 0.0, 0
-        for start in range(0, len(order), settings.batch):
-            idx = order[start : start + settings.batch]
-            opt.zero_grad()
-            loss = crit(model(xt[idx]), yt[idx])
-            loss.backward()
-            opt.step()
-            total += loss.item() * len(idx)
-            count += len(idx)
-        model.eval()
-        with torch.no_grad():
-            val = float(crit(model(xv), yv))
-        history.train.append(total / count)
+        history.train.append(_train_epoch(model, opt, crit, xt, yt, gen, settings.batch))
+        val = _validation_loss(model, crit, xv, yv)
         history.validation.append(val)
         if on_epoch is not None:
             on_epoch(epoch, history.train[-1], val)
@@ -165,6 +138,62 @@ def train_model(
     model.load_state_dict(best_state)
     model.eval()
     return Trained(model, history, time.perf_counter() - started)
+
+
+def _initial_model(
+    settings: config.Train, outputs: int, seed: int, warm_start: dict[str, NDArray] | None
+) -> ForceGRU:
+    """The seeded model (deterministic algorithms from here on), or the ``warm_start`` weights:
+    seeded first either way, so the shuffling that follows draws the same."""
+    torch.manual_seed(seed)
+    torch.use_deterministic_algorithms(True)
+    model = ForceGRU(
+        ModelConfig(
+            hidden=settings.hidden,
+            layers=settings.layers,
+            dropout=settings.dropout,
+            outputs=outputs,
+        )
+    )
+    if warm_start is not None:
+        model.load_state_dict({k: torch.as_tensor(np.asarray(v)) for k, v in warm_start.items()})
+    return model
+
+
+def _train_epoch(
+    model: ForceGRU,
+    opt: Adam,
+    crit: Criterion,
+    xt: torch.Tensor,
+    yt: torch.Tensor,
+    gen: torch.Generator,
+    batch: int,
+) -> float:
+    """One pass over the training set in ``gen``'s shuffled order; the sample-weighted mean loss."""
+    model.train()
+    order = torch.randperm(len(xt), generator=gen)
+    total, count = 0.0, 0
+    for start in range(0, len(order), batch):
+        idx = order[start : start + batch]
+        opt.zero_grad()
+        loss = crit(model(xt[idx]), yt[idx])
+        loss.backward()
+        opt.step()
+        total += loss.item() * len(idx)
+        count += len(idx)
+    return total / count
+
+
+def _validation_loss(
+    model: ForceGRU,
+    crit: Criterion,
+    xv: torch.Tensor,
+    yv: torch.Tensor,
+) -> float:
+    """The criterion on the validation set, the model in evaluation mode, no gradients."""
+    model.eval()
+    with torch.no_grad():
+        return float(crit(model(xv), yv))
 
 
 def predict(model: ForceGRU, x: Array) -> Array:

@@ -1,5 +1,5 @@
 """An acquisition's planning and checks without simulating: the specs of a trajectory table,
-and a finished job's completeness and failure rate."""
+a finished job's rows in key order, its completeness and failure rate."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import numpy as np
 import pyarrow as pa
 import pytest
 
-from ftfof.data.acquisition import check_complete, check_failures, sampled_specs
+from ftfof.data.acquisition import canonical_rows, check_complete, check_failures, sampled_specs
 from ftfof.errors import DataError, SimulationError
 from ftfof.pipeline.bench import bench, context_of
 from ftfof.trajectory.bezier import DECISION_NAMES
@@ -41,6 +41,15 @@ def _finished(status: list[str], keys: list[str] | None = None) -> pa.Table:
     keys = keys or [f"k{i}" for i in range(len(status))]
     errors = ["" if s == "ok" else f"{k} diverged" for k, s in zip(keys, status, strict=True)]
     return pa.table({"key": keys, "status": status, "error": errors})
+
+
+def test_a_jobs_rows_are_its_own_keys_in_key_order_whatever_the_completion_order():
+    """Parts finish in any order and a pending area may hold another run's samples: the job's
+    table is its own rows, sorted by key, so that equal runs write equal files."""
+    table = pa.table({"key": ["s:3", "other:0", "s:1", "s:2"], "status": ["a", "b", "c", "d"]})
+    rows = canonical_rows(table, {"s:1", "s:2", "s:3", "s:9"})
+    assert rows.column("key").to_pylist() == ["s:1", "s:2", "s:3"]
+    assert rows.column("status").to_pylist() == ["c", "d", "a"]
 
 
 def test_a_finished_job_holds_each_expected_sample_once():

@@ -58,6 +58,7 @@ def command(
     from ftfof.pipeline import identify as ident
     from ftfof.pipeline.params_file import load_params
     from ftfof.report.identify import convergence_figure
+    from ftfof.sim import identified
 
     params = load_params(params_path)
     paths = ident.IdentifyPaths(report, folder)
@@ -67,17 +68,18 @@ def command(
         return
     log, drag_speeds = _inputs(params, log, simulate, speeds)
     name = surface or params.identify.surface or params.surface
-    slip = ident.read_log(log) if log is not None else ident.simulate_slip(params, name)
+    on = ident.slip_bench(params, name)
+    slip = ident.read_log(log) if log is not None else identified.simulated_log(on)
     ls, track = fit.identify(slip)
-    true = ident.truth(params, name) if log is None else None
+    true = identified.truth(identified.law_of(on), on.robot) if log is None else None
     source = "simulated slip test" if log is None else str(log)
     out = fit.report(name, source, ls, track, true)
-    out["adhesion_0"] = ident.quasi_static(params, name, track.final, log is None)
+    out["adhesion_0"] = identified.quasi_static_block(on, track.final, log is None)
     if drag_speeds is not None:
-        out["rate_law"] = ident.rate_law(params, name, drag_speeds)
+        out["rate_law"] = identified.rate_law_block(on, drag_speeds)
     pull_off = ident.read_calibration(calibration, name) if calibration else None
     static = Estimate(track.final.mu, out["adhesion_0"]["estimate"])
-    block = ident.preset(params, name, source, static, pull_off)
+    block = identified.preset_of(on, source, static, pull_off)
     ident.write_outputs(out, convergence_figure(out, track), block, paths)
     if write_params:
         ident.write_surface(params_path, name, block, params.surfaces[name])

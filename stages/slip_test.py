@@ -20,11 +20,12 @@ def command(
     ] = None,
 ) -> None:
     """Press the pad, set each normal load, drag it until it slips; write t, Fx, Fz, load."""
-    from ftfof.pipeline.identify import simulate_slip, write_log
+    from ftfof.pipeline.identify import slip_bench, write_log
     from ftfof.pipeline.params_file import load_params
+    from ftfof.sim.identified import simulated_log
 
     params = load_params(params_path)
     path = out or catalog_path("slip_logs") / f"{surface}.csv"
-    log = simulate_slip(params, surface)
+    log = simulated_log(slip_bench(params, surface))
     write_log(log, path)
     console.print(f"slip test on {surface}: {log.t.size} samples in {path}")

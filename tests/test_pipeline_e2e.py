@@ -165,8 +165,9 @@ def test_no_data_output_holds_a_wall_time_or_a_host_name(repo):
 def test_a_log_of_the_run_estimates_it_and_shows_each_climb_as_it_ends(reproduced):
     """Within acquire (the run's first minute at the paper's scale), an estimate of the whole
     run, of the right size; then polish's bar, and each climb's outcome as it ends."""
-    from ftfof.pipeline.estimate import whole_run
+    from ftfof.pipeline.estimate import sizes_of
     from ftfof.pipeline.params_file import load_params
+    from ftfof.study.duration import whole_run
 
     repo, said, seconds = reproduced
     text = " ".join(said.split())  # rich wraps a log's lines at 80 columns
@@ -179,7 +180,7 @@ def test_a_log_of_the_run_estimates_it_and_shows_each_climb_as_it_ends(reproduce
     unit = 60 if found[3] == "min" else 1
     estimate = int(found[2]) * unit
     # on the tiny profile's sizes, not the paper's (9 min at the reference pace)
-    expected = whole_run(load_params(repo / "params.yaml"), float(found[1]))
+    expected = whole_run(sizes_of(load_params(repo / "params.yaml")), float(found[1]))
     assert abs(estimate - expected) <= 0.05 * expected + unit, (estimate, expected)
     # of the run's order: the tiny acquire's few seconds of pace are at the mercy of a shared
     # machine's load (a busy minute there made a 6.7-minute run look like 27), so only a slip

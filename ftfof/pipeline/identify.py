@@ -1,10 +1,11 @@
-"""The slip test and the identify command's application side: run or read a slip log, estimate
-friction and adhesion, write the report, the convergence plot and a surface preset block."""
+"""The slip test and the identify command's application side: the slip bench of a surface preset
+(:mod:`ftfof.sim.identified` runs and judges it), slip logs read and written, the report, the
+convergence plot, the surface preset block and its edit of params.yaml."""
 
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -16,14 +17,9 @@ from ftfof.config import Params, Surface
 from ftfof.data.sliplog import parse_slip
 from ftfof.errors import DataError, ParamsError
 from ftfof.files import atomic_path, save_figure
-from ftfof.identify.estimate import Estimate
 from ftfof.identify.log import SlipLog
 from ftfof.pipeline.params_file import edit_params
 from ftfof.pipeline.summaries import write_metrics
-from ftfof.sim import identified
-from ftfof.sim.bonds import BondLaw
-from ftfof.sim.identified import PROTOCOL, simulated_log
-from ftfof.sim.slip import SlipProtocol, adhesion_truth
 from ftfof.sim.spec import Bench
 
 COMMENT = "identified by ftfof identify (reports/identify.json)"
@@ -49,59 +45,15 @@ def surface_of(params: Params, name: str) -> Surface:
     return params.surfaces[name]
 
 
-def simulate_slip(params: Params, name: str, protocol: SlipProtocol = PROTOCOL) -> SlipLog:
-    """The slip test of the selected robot's pad on surface ``name``."""
-    bench = Bench(
+def slip_bench(params: Params, name: str) -> Bench:
+    """The bench of the slip test of the selected robot's pad on surface ``name``."""
+    return Bench(
         params.selected_robot,
         surface_of(params, name),
         params.platform,
         params.acquire,
         params.base.seed,
     )
-    return simulated_log(bench, protocol)
-
-
-def law_of(params: Params, name: str) -> BondLaw:
-    """Surface ``name``'s bond law at the acquisition's contact smoothing."""
-    return BondLaw.from_surface(surface_of(params, name), params.acquire.solver.contact_smoothing)
-
-
-def truth(params: Params, name: str) -> Estimate:
-    """mu and F_adh per pad the preset and the bond law imply at the test's drag speed
-    (:func:`ftfof.sim.identified.truth`)."""
-    return identified.truth(law_of(params, name), params.selected_robot)
-
-
-def quasi_static(params: Params, name: str, est: Estimate, simulated: bool) -> dict[str, Any]:
-    """The report's F_adh,0 block: the estimate taken back to no rate through the preset's rate
-    law at the protocol's speed (a log is taken to follow `ftfof slip-test`'s protocol), beside
-    the preset's F_adh,0 where the log is simulated."""
-    law, robot = law_of(params, name), params.selected_robot
-    true = adhesion_truth(law, robot.pre_pressure, robot.pad_area) if simulated else None
-    return {
-        "estimate": identified.quasi_static(law, est.adhesion, PROTOCOL.speed),
-        "truth": true,
-        "speed": PROTOCOL.speed,
-    }
-
-
-def rate_law(params: Params, name: str, speeds: list[float]) -> dict[str, Any]:
-    """The rate law's n and v* from simulated slip tests at two ``speeds``, F_adh,0 taken as the
-    preset's (:func:`ftfof.sim.identified.rate_law`), beside the preset's n and v*."""
-    from ftfof.identify import fit
-
-    law, robot = law_of(params, name), params.selected_robot
-    drags = {
-        v: fit.identify(simulate_slip(params, name, replace(PROTOCOL, speed=v)))[1].final.adhesion
-        for v in speeds
-    }
-    got = identified.rate_law(law, adhesion_truth(law, robot.pre_pressure, robot.pad_area), drags)
-    return {
-        "speeds": sorted(drags),
-        "adhesion": [drags[v] for v in sorted(drags)],
-        "exponent": {"estimate": got.exponent, "truth": law.rate_exponent},
-        "rate_speed": {"estimate": got.speed, "truth": law.rate_speed},
-    }
 
 
 def write_log(log: SlipLog, path: Path) -> None:
@@ -134,15 +86,6 @@ def read_calibration(path: Path, surface: str) -> float:
     if strength is None:
         raise DataError(str(path), "has no strength (fitted or fixed)")
     return float(strength)
-
-
-def preset(
-    params: Params, name: str, source: str, est: Estimate, pull_off: float | None = None
-) -> dict[str, Any]:
-    """Surface ``name``'s preset with the identified mu and quasi-static F_adh,0 in ``est``
-    (:func:`ftfof.sim.identified.identified_preset`)."""
-    law, robot = law_of(params, name), params.selected_robot
-    return identified.identified_preset(law, robot, surface_of(params, name), source, est, pull_off)
 
 
 def write_outputs(

@@ -1,16 +1,17 @@
 """The slip test `ftfof identify` runs and what the bond law says of its estimate: the friction
 and adhesion a preset implies (:func:`truth`), the rate law two drag speeds give
-(:func:`rate_law`), and the preset an estimate gives (:func:`identified_preset`)."""
+(:func:`rate_law`), and the preset an estimate gives (:func:`identified_preset`); and the same
+for the slip bench of a surface preset (:func:`law_of`), as the report writes them."""
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import ftfof.config as config
 from ftfof.identify.estimate import Estimate
-from ftfof.identify.fit import preset_block
+from ftfof.identify.fit import identify, preset_block
 from ftfof.identify.log import SlipLog
 from ftfof.sim.bonds import BondLaw
 from ftfof.sim.slip import SlipProtocol, adhesion_truth, drag, slip_test, strength_for
@@ -87,3 +88,45 @@ def identified_preset(
     (:func:`strength_for`, :func:`ftfof.identify.fit.preset_block`)."""
     tau = strength_for(law, robot.pre_pressure, robot.pad_area, est.adhesion)
     return preset_block(surface, source, est.mu, tau, pull_off)
+
+
+def law_of(on: Bench) -> BondLaw:
+    """The bond law of ``on``'s surface at the acquisition's contact smoothing."""
+    return BondLaw.from_surface(on.surface, on.acquire.solver.contact_smoothing)
+
+
+def quasi_static_block(on: Bench, est: Estimate, simulated: bool) -> dict[str, Any]:
+    """The report's F_adh,0 block: the estimate taken back to no rate through the preset's rate
+    law at the protocol's speed (a log is taken to follow `ftfof slip-test`'s protocol), beside
+    the preset's F_adh,0 where the log is simulated."""
+    law, robot = law_of(on), on.robot
+    true = adhesion_truth(law, robot.pre_pressure, robot.pad_area) if simulated else None
+    return {
+        "estimate": quasi_static(law, est.adhesion, PROTOCOL.speed),
+        "truth": true,
+        "speed": PROTOCOL.speed,
+    }
+
+
+def rate_law_block(on: Bench, speeds: list[float]) -> dict[str, Any]:
+    """The rate law's n and v* from simulated slip tests on ``on`` at two ``speeds``, F_adh,0
+    taken as the preset's (:func:`rate_law`), beside the preset's n and v*."""
+    law, robot = law_of(on), on.robot
+    drags = {
+        v: identify(simulated_log(on, replace(PROTOCOL, speed=v)))[1].final.adhesion for v in speeds
+    }
+    got = rate_law(law, adhesion_truth(law, robot.pre_pressure, robot.pad_area), drags)
+    return {
+        "speeds": sorted(drags),
+        "adhesion": [drags[v] for v in sorted(drags)],
+        "exponent": {"estimate": got.exponent, "truth": law.rate_exponent},
+        "rate_speed": {"estimate": got.speed, "truth": law.rate_speed},
+    }
+
+
+def preset_of(
+    on: Bench, source: str, est: Estimate, pull_off: float | None = None
+) -> dict[str, Any]:
+    """``on``'s surface preset with the identified mu and quasi-static F_adh,0 in ``est``
+    (:func:`identified_preset`)."""
+    return identified_preset(law_of(on), on.robot, on.surface, source, est, pull_off)

@@ -6,8 +6,18 @@ import pytest
 
 from ftfof.identify.estimate import Estimate
 from ftfof.sim.bonds import BondLaw
-from ftfof.sim.identified import PROTOCOL, identified_preset, rate_law, truth
+from ftfof.sim.identified import (
+    PROTOCOL,
+    identified_preset,
+    law_of,
+    preset_of,
+    quasi_static,
+    quasi_static_block,
+    rate_law,
+    truth,
+)
 from ftfof.sim.slip import adhesion_truth
+from ftfof.sim.spec import Bench
 
 
 def _law(surface, params) -> BondLaw:
@@ -51,3 +61,27 @@ def test_two_drag_speeds_give_back_the_rate_law(params):
     assert got.speed == pytest.approx(law.rate_speed, rel=1e-9)
     with pytest.raises(ValueError, match="rise with the speed"):
         rate_law(law, static, {1e-3: static, 4e-3: 2 * static})
+
+
+def _bench(params, name: str) -> Bench:
+    surface = params.surfaces[name]
+    return Bench(params.selected_robot, surface, params.platform, params.acquire, params.base.seed)
+
+
+def test_the_benchs_law_is_its_surfaces_at_the_acquisitions_smoothing(params):
+    on = _bench(params, "glass")
+    assert law_of(on) == _law(params.surfaces["glass"], params)
+    est = Estimate(0.4, 12.5)
+    block = identified_preset(law_of(on), on.robot, on.surface, "log.csv", est, 4.0e4)
+    assert preset_of(on, "log.csv", est, 4.0e4) == block
+
+
+@pytest.mark.parametrize("simulated", [True, False])
+def test_the_quasi_static_block_takes_the_estimate_back_to_no_rate(params, simulated):
+    on, est = _bench(params, "glass"), Estimate(0.4, 12.5)
+    law, robot = law_of(on), on.robot
+    block = quasi_static_block(on, est, simulated)
+    assert block["estimate"] == quasi_static(law, 12.5, PROTOCOL.speed) < 12.5
+    assert block["speed"] == PROTOCOL.speed
+    static = adhesion_truth(law, robot.pre_pressure, robot.pad_area)
+    assert block["truth"] == (static if simulated else None)

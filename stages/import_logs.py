@@ -14,26 +14,21 @@ from stages.common import ParamsOption, console, stage
 OUT = catalog.path("imported")
 SLIP_OUT = catalog.path("slip_logs")
 PROTOCOLS = ("peel", "slip")
+OutOption = typer.Option(help=f"Where they go (default: {OUT}, or {SLIP_OUT} for slip logs).")
+DurationOption = typer.Option(help="Trajectory duration T3 in s (default: the robot's).")
+ProtocolOption = typer.Option(
+    help="peel: a step's force log (a training sample); slip: a slip test's log "
+    "(t, Fx, Fz, load) for `ftfof identify --log`."
+)
 
 
 @stage
 def command(
     logs: Annotated[list[Path], typer.Argument(help="CSV or Parquet log files.", exists=False)],
     params_path: Annotated[Path, ParamsOption] = Path("params.yaml"),
-    out: Annotated[
-        Path | None,
-        typer.Option(help=f"Where they go (default: {OUT}, or {SLIP_OUT} for slip logs)."),
-    ] = None,
-    duration: Annotated[
-        float | None, typer.Option(help="Trajectory duration T3 in s (default: the robot's).")
-    ] = None,
-    protocol: Annotated[
-        str,
-        typer.Option(
-            help="peel: a step's force log (a training sample); slip: a slip test's log "
-            "(t, Fx, Fz, load) for `ftfof identify --log`."
-        ),
-    ] = "peel",
+    out: Annotated[Path | None, OutOption] = None,
+    duration: Annotated[float | None, DurationOption] = None,
+    protocol: Annotated[str, ProtocolOption] = "peel",
 ) -> None:
     """Validate force logs and import them: peel logs as samples the dataset stage trains on,
     slip logs as the logs `ftfof identify` estimates a surface from.

@@ -3,12 +3,15 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
 from ftfof.pipeline.catalog import path
 from stages.common import ParamsOption, console, stage
+
+if TYPE_CHECKING:
+    from ftfof.surrogate.fit import Training
 
 DATASET = path("dataset")
 OUT = path("models")
@@ -51,11 +54,17 @@ def command(
         save_figure(loss_fig, loss_plot)
         save_figure(pred_fig, pred_plot)
         tracked.finish(run, data, (loss_plot, pred_plot), out)
+    _say(run, params.train.epochs)
+    console.print(f"trained {len(run.results)} models in {run.wall:.0f} s -> {out}")
+
+
+def _say(run: Training, cap: int) -> None:
+    """Each model's epochs and errors, and each peak GP's, a line each."""
     for r in run.results:
         h = r["history"]
         console.print(
             f"{r['kind']}: {len(h['train'])} epochs (best {h['best_epoch']}, cap "
-            f"{params.train.epochs}), {r['seconds']:.0f} s"
+            f"{cap}), {r['seconds']:.0f} s"
         )
         for target, m in r["metrics"].items():
             console.print(
@@ -74,4 +83,3 @@ def command(
             f"[yellow]{target} peak: no GP (too few training rows have control values and "
             "the target); the GRU's series maximum stands[/]"
         )
-    console.print(f"trained {len(run.results)} models in {run.wall:.0f} s -> {out}")

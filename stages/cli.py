@@ -19,6 +19,7 @@ from stages import (
     identify,
     import_logs,
     optimize,
+    payload,
     polish,
     profile,
     refine,
@@ -85,6 +86,7 @@ app.command("calibrate")(calibrate.command)
 app.command("slip-test")(slip_test.command)
 app.command("identify")(identify.command)
 app.command("sweep")(sweep.command)
+study.app.command("payload")(payload.command)  # not a stage: study.py imports no climb
 app.add_typer(study.app, name="study")
 app.command("dvc-yaml")(dvc_yaml.command)
 

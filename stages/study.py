@@ -15,7 +15,9 @@ REPORT = path("eps_study")
 FIGURE = path("eps_study_figure")
 
 app = typer.Typer(
-    help="Sweep one trajectory setting on the platform.", no_args_is_help=True, add_completion=False
+    help="Studies: the ε sweep on the platform (a stage), the payload margin on the robot.",
+    no_args_is_help=True,
+    add_completion=False,
 )
 
 

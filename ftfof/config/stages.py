@@ -275,8 +275,25 @@ def _ascending(values: list[float]) -> list[float]:
     return sorted(values)
 
 
+class Payload(Strict):
+    """`ftfof study payload`: the largest mass added to the trunk at which each Table I
+    trajectory and the optimum still climb every step (bisection)."""
+
+    ceiling: PositiveFloat = 0.4  # kg: the heaviest added mass tried
+    resolution: PositiveFloat = 0.01  # kg: the bisection stops when the interval is this narrow
+
+    @model_validator(mode="after")
+    def _resolvable(self) -> Payload:
+        if self.resolution >= self.ceiling:
+            raise ValueError(f"resolution {self.resolution} kg must be below the ceiling")
+        return self
+
+
 class Study(Strict):
-    """The platform studies that run as pipeline stages (`ftfof study`)."""
+    """The studies `ftfof study` runs: the ε study (a pipeline stage) and the payload margin (a
+    command of its own: it climbs each trajectory about eight times)."""
+
+    payload: Payload = Payload()
 
     # the ε-Bezier baseline's truncation values (the ε-Bezier paper's Fig. 15-16; 0: plain Bezier)
     eps: Annotated[list[NonNegativeFloat], Field(min_length=2), AfterValidator(_ascending)] = [

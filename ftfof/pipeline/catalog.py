@@ -86,6 +86,8 @@ ARTEFACTS: dict[str, Artefact] = {
     "eps_study": _a("reports/eps_study.json", "json", "study eps"),
     "eps_study_figure": _a("reports/eps_study.png", "png", "study eps"),
     "study_summary": _a("reports/summary/study.json", "json", "study eps"),
+    "payload": _a("reports/payload.json", "json", "study payload"),
+    "payload_figure": _a("reports/payload.png", "png", "study payload"),
 }
 
 # format -> (its writer, its reader), as ``module:function``. The reader is None where no command

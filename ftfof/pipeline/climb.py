@@ -60,17 +60,24 @@ def run_table(
     out_dir.mkdir(parents=True, exist_ok=True)
     climbed: dict[str, Any] = {}
     if params.evaluate.climb and ctx.robot.climber is not None:
-        inputs = read_optimum(optimize, ctx.name)
-        bezier = bezier_rows(ctx, inputs)
-        baselines = baseline_trajectories(params, ctx)
-        breaks = admitted(ctx, baselines, bezier)
-        runnable, skipped = climbable(ctx, baselines, bezier, breaks)
-        specs = {n: spec_for(params, ctx, n, t, X) for n, (t, X) in runnable.items()}
+        specs, skipped = table_specs(params, ctx, optimize)
         console.print(f"climb: the climbing robot climbs {', '.join(specs)}")
         pool = params.acquire.workers if workers is None else workers
         climbed = climb_record(climb_all(params, specs, out_dir, pool), skipped)
     write_metrics("climb", record, climbed)
     return climbed
+
+
+def table_specs(
+    params: Params, ctx: RobotContext, optimize: Path
+) -> tuple[dict[str, ClimbSpec], dict[str, str]]:
+    """The climbs of Table I's trajectories the robot can run and of the optimum in
+    ``optimize``, and the rows it cannot run with the first rules each breaks."""
+    inputs = read_optimum(optimize, ctx.name)
+    bezier = bezier_rows(ctx, inputs)
+    baselines = baseline_trajectories(params, ctx)
+    runnable, skipped = climbable(ctx, baselines, bezier, admitted(ctx, baselines, bezier))
+    return {n: spec_for(params, ctx, n, t, X) for n, (t, X) in runnable.items()}, skipped
 
 
 def with_controller(params: Params, controller: str | None) -> Params:

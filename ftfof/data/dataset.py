@@ -24,6 +24,7 @@ from numpy.typing import NDArray
 import ftfof.config as config
 from ftfof.data import targets as tg
 from ftfof.data.schema import field
+from ftfof.digests import json_sha256
 from ftfof.errors import DataError
 from ftfof.trajectory.bezier import DECISION_NAMES
 
@@ -55,6 +56,32 @@ CHANNELS = (
     "film_clearance",
 )
 METADATA_KEY = b"ftfof"
+
+
+def built_from(seed: int, robot: str, timing: config.Timing, cfg: config.Dataset) -> dict[str, Any]:
+    """The params a dataset is built from (dvc.yaml's ``dataset`` params), which its metadata
+    hashes: a hash of all of them rewrote the dataset, and every digest downstream, on an edit
+    of a later stage's settings (the polish budget, the report)."""
+    return {
+        "seed": seed,
+        "robot": robot,
+        "timing": timing.model_dump(),
+        "dataset": cfg.model_dump(),
+    }
+
+
+def provenance(
+    built: dict[str, Any], surface: str, simulated: dict[str, str], versions: dict[str, str]
+) -> dict[str, Any]:
+    """The dataset's provenance (:func:`built_from`'s hash, the robot and surface, the code):
+    exudyn as the acquisition's ``simulated`` versions name it, where they do, else this one."""
+    return {
+        "params_hash": json_sha256(built, 16),
+        "robot": built["robot"],
+        "surface": surface,
+        "exudyn": simulated.get("exudyn", versions["exudyn"]),
+        "ftfof": versions["ftfof"],
+    }
 
 
 def schema(seq_len: int) -> pa.Schema:

@@ -1,6 +1,7 @@
 """What a fit of a surface to FTFOF Table I (``ftfof calibrate``; the fit is
 :mod:`ftfof.sim.calibrate`) may fit or hold: the parameters it knows, their default ranges, and
-the ``--fix key=value`` and ``--bound key=lo:hi`` that change them, each refused by name.
+the ``--fix key=value`` and ``--bound key=lo:hi`` that change them, each refused by name; and
+the strength a fit reports, which `identify` starts from.
 
 The plate foot's backing modulus is fitted beside the surface within the range of the foams and
 elastomers such backings are made of: 0.1-10 MPa (a soft polyurethane foam to a hard silicone;
@@ -10,8 +11,9 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable
+from typing import Any
 
-from ftfof.errors import ParamsError
+from ftfof.errors import DataError, ParamsError
 
 BOUNDS = {"strength": (2e3, 5e5), "fracture_energy": (1.0, 5e3)}
 THIRD_BOUNDS = {
@@ -103,3 +105,18 @@ def fit_bounds(
     if not bounds:
         raise ParamsError("--fix", "holds every parameter: nothing is left to fit")
     return bounds
+
+
+def fitted_strength(report: Any, surface: str, where: str) -> float:
+    """The pull-off strength sigma a fit's ``report`` (read from ``where``) fitted or held for
+    ``surface``."""
+    try:
+        strength = {**report["fixed"], **report["values"]}.get("strength")
+        fitted_on = report["surface"]
+    except (KeyError, TypeError) as err:
+        raise DataError(where, f"not a calibration report ({err})") from None
+    if fitted_on != surface:
+        raise DataError(where, f"calibrates surface {fitted_on!r}, not {surface!r}")
+    if strength is None:
+        raise DataError(where, "has no strength (fitted or fixed)")
+    return float(strength)

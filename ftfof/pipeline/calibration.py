@@ -7,9 +7,7 @@ from __future__ import annotations
 from dataclasses import replace
 from typing import Any
 
-from ftfof.config import FootMechanics, Params, Robot, Surface
-from ftfof.errors import ParamsError
-from ftfof.identify.calibration import fit_bounds
+from ftfof.config import FootMechanics, Params, Surface
 from ftfof.pipeline.bench import baseline_trajectories, bench, context_of
 from ftfof.pipeline.console import console
 from ftfof.sim.spec import baseline_specs
@@ -24,20 +22,16 @@ def fit_surface(
 ) -> dict[str, Any]:
     """Fit strength and fracture energy (and ``third``, and a plate foot's backing modulus) with
     the Table I baselines; the report (:func:`ftfof.sim.calibrate.surface_fit`)."""
-    from ftfof.sim.calibrate import TABLE_I, surface_fit, trial_of
+    from ftfof.sim.calibrate import TABLE_I, fit_start, surface_fit, with_foot
 
     fixed = fixed or {}
     ctx = context_of(params)
-    foot = ctx.robot.platform.foot
-    if "backing_modulus" in {*fixed, *(bounds or {})} and foot.model != "plate":
-        raise ParamsError("--fix/--bound backing_modulus", f"{ctx.name}'s foot has no backing")
-    fitted = fit_bounds(third, fixed, bounds or {}, backing=foot.model == "plate")
-    start, foot = trial_of(params.selected_surface, foot, fixed)
-    robot = _with_foot(ctx.robot, foot)
+    selected = params.selected_surface
+    fitted, start, robot = fit_start(ctx.name, ctx.robot, selected, third, fixed, bounds or {})
     trajectories = baseline_trajectories(params, ctx)
 
     def specs_for(surface: Surface, trial: FootMechanics):
-        on = replace(bench(params, ctx, surface), robot=_with_foot(robot, trial))
+        on = replace(bench(params, ctx, surface), robot=with_foot(robot, trial))
         return baseline_specs(on, trajectories, TABLE_I)
 
     held = f"; holding {', '.join(f'{k} = {v:g}' for k, v in fixed.items())}" if fixed else ""
@@ -49,11 +43,7 @@ def fit_surface(
     return {
         "surface": params.surface,
         "robot": ctx.name,
-        "foot": foot.model,
+        "foot": robot.platform.foot.model,
         **report,
         "baselines": params.baselines.model_dump(),
     }
-
-
-def _with_foot(robot: Robot, foot: FootMechanics) -> Robot:
-    return robot.model_copy(update={"platform": robot.platform.model_copy(update={"foot": foot})})

@@ -7,7 +7,6 @@ import json
 import os
 from collections.abc import Iterator
 from concurrent.futures import as_completed
-from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -25,8 +24,7 @@ from ftfof.climb.outcome import (
     ended,
     run_climb,
 )
-from ftfof.climb.simulate import gait_of
-from ftfof.climb.surface import switch_of
+from ftfof.climb.specs import climb_spec_of, controller_specs
 from ftfof.config import Params
 from ftfof.digests import json_sha256
 from ftfof.errors import ParamsError
@@ -43,7 +41,6 @@ from ftfof.pipeline.summaries import write_metrics
 from ftfof.pipeline.trajectory import trajectory_of
 from ftfof.report.climb_figure import climb_traces, side_view, slip_comparison_figure
 from ftfof.robot import RobotContext
-from ftfof.seeds import seed_for
 from ftfof.sim.pool import fork_pool
 from ftfof.sim.spec import BASELINE_SEGMENTS
 from ftfof.trajectory.piecewise import PiecewiseQuintic, Sampled
@@ -113,26 +110,24 @@ def spec_for(
     X: np.ndarray | None,
     change_key: str = "climb.surface_change",
 ) -> ClimbSpec:
-    """The climb of one trajectory: a Bezier row exactly, an analytic one Hermite-fitted; a
-    ``climb.surface_change`` outside the climb is refused here, before anything runs, naming
-    ``change_key``, where the change came from."""
+    """The climb of one trajectory (:func:`ftfof.climb.specs.climb_spec_of`): a Bezier row exactly,
+    an analytic one Hermite-fitted."""
     if X is not None:
         piecewise = bench(params, ctx).bezier("climb", 0, X).trajectory
     else:
         piecewise = PiecewiseQuintic.fit(trajectory, ctx.robot.timing.T3, BASELINE_SEGMENTS)
-    spec = ClimbSpec(
-        name=name,
-        trajectory=piecewise,
-        robot=ctx.robot,
-        surface=params.selected_surface,
-        platform=params.platform,
-        solver=params.acquire.solver,
-        climb=params.climb,
-        seed=seed_for(params.base.seed, "climb"),
+    return climb_spec_of(
+        name,
+        piecewise,
+        ctx.robot,
+        params.selected_surface,
+        params.platform,
+        params.acquire.solver,
+        params.climb,
+        params.surfaces,
+        params.base.seed,
+        change_key,
     )
-    change = params.climb.surface_change
-    switch = switch_of(change, params.surfaces, gait_of(spec).end, change_key)
-    return replace(spec, switch=switch)
 
 
 def climb_all(
@@ -219,12 +214,7 @@ def compare_controllers(
     slip_distance, slip_path, max_slip_velocity, fell, fall, steps and what it did;
     ``<name>.controllers.png``: the changed foot's slip under each (the foot that slipped most
     under ``none`` without a surface change)."""
-    specs = {
-        c: replace(
-            spec, name=f"{spec.name}.{c}", climb=spec.climb.model_copy(update={"controller": c})
-        )
-        for c in CONTROLLERS
-    }
+    specs = controller_specs(spec)
     outs: dict[str, Climbed] = {}
     for controller, out in _climbed(specs, workers, label):
         write_climb(out, out_dir, f"{title}, controller {controller}")

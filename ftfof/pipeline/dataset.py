@@ -14,7 +14,6 @@ import pyarrow as pa
 from ftfof.config import Params
 from ftfof.data import dataset
 from ftfof.data.acquisition import ACQUISITION
-from ftfof.digests import json_sha256
 from ftfof.files import read_table
 from ftfof.pipeline.jobs import FINAL, MANIFEST, versions
 from ftfof.seeds import seed_for
@@ -25,18 +24,6 @@ class Dataset:
     table: pa.Table  # with the ftfof metadata
     summary: dict[str, Any]  # the stage's metrics
     figure: Any  # a few samples (matplotlib)
-
-
-def built_from(params: Params) -> dict[str, Any]:
-    """The params a dataset is built from (dvc.yaml's ``dataset`` params), which its metadata
-    hashes: a hash of all of them rewrote the dataset, and every digest downstream, on an edit
-    of a later stage's settings (the polish budget, the report)."""
-    return {
-        "seed": params.base.seed,
-        "robot": params.robot,
-        "timing": params.selected_robot.timing.model_dump(),
-        "dataset": params.dataset.model_dump(),
-    }
 
 
 def build(params: Params, acquisition: Path, imported: Path) -> Dataset:
@@ -50,13 +37,8 @@ def build(params: Params, acquisition: Path, imported: Path) -> Dataset:
     cfg = params.dataset
     manifest = acquisition / MANIFEST
     sim_versions = json.loads(manifest.read_text()).get("versions", {}) if manifest.exists() else {}
-    provenance = {
-        "params_hash": json_sha256(built_from(params), 16),
-        "robot": params.robot,
-        "surface": params.surface,
-        "exudyn": sim_versions.get("exudyn", versions()["exudyn"]),
-        "ftfof": versions()["ftfof"],
-    }
+    built = dataset.built_from(params.base.seed, params.robot, params.selected_robot.timing, cfg)
+    provenance = dataset.provenance(built, params.surface, sim_versions, versions())
     seed, landing_start = seed_for(params.base.seed, "split"), params.selected_robot.timing.T2
     built, summary = dataset.assemble(tables, cfg, seed, landing_start, provenance)
     # the stage's time (not hashed)

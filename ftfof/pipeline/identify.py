@@ -17,6 +17,7 @@ from ftfof.config import Params, Surface
 from ftfof.data.sliplog import parse_slip
 from ftfof.errors import DataError, ParamsError
 from ftfof.files import atomic_path, save_figure
+from ftfof.identify.calibration import fitted_strength
 from ftfof.identify.log import SlipLog
 from ftfof.pipeline.params_file import edit_params
 from ftfof.pipeline.summaries import write_metrics
@@ -72,20 +73,15 @@ def read_log(path: Path) -> SlipLog:
 
 
 def read_calibration(path: Path, surface: str) -> float:
-    """The pull-off strength sigma that ``ftfof calibrate`` fitted (or held) for ``surface``."""
+    """The pull-off strength sigma that ``ftfof calibrate`` fitted (or held) for ``surface``
+    (:func:`ftfof.identify.calibration.fitted_strength`)."""
     if not path.is_file():
         raise DataError(str(path), "no such file (run `ftfof calibrate` first)")
     try:
         fit = json.loads(path.read_text())
-        strength = {**fit["fixed"], **fit["values"]}.get("strength")
-        fitted_on = fit["surface"]
-    except (json.JSONDecodeError, KeyError, TypeError) as err:
+    except json.JSONDecodeError as err:
         raise DataError(str(path), f"not a calibration report ({err})") from None
-    if fitted_on != surface:
-        raise DataError(str(path), f"calibrates surface {fitted_on!r}, not {surface!r}")
-    if strength is None:
-        raise DataError(str(path), "has no strength (fitted or fixed)")
-    return float(strength)
+    return fitted_strength(fit, surface, str(path))
 
 
 def write_outputs(

@@ -9,8 +9,8 @@ from typing import Any
 
 from ftfof.climb.model import ClimbSpec
 from ftfof.climb.outcome import CONTROLLERS
+from ftfof.climb.specs import scenario_climb, slip_name, slip_table, slip_title
 from ftfof.config import Params
-from ftfof.config.stages import SlipScenario, SurfaceChange
 from ftfof.pipeline.bench import baseline_trajectories, context_of
 from ftfof.pipeline.climb import compare_controllers, spec_for
 from ftfof.pipeline.console import console
@@ -38,27 +38,15 @@ def run(params: Params, out_dir: Path, record: Path, workers: int | None) -> dic
     return doc
 
 
-def slip_name(scenario: SlipScenario) -> str:
-    """The slip comparison's climb name: its files are ``<name>.<controller>.*`` and
-    ``<name>.controllers.*``."""
-    return f"slip_{scenario.trajectory}"
-
-
 def slip_scenario_spec(
     params: Params, ctx: RobotContext, trajectory: Sampled
 ) -> tuple[ClimbSpec, str]:
     """``evaluate.slip_scenario``'s climb of ``trajectory`` and its title; a scenario time
     outside the climb is refused here, before anything runs."""
     scenario = params.evaluate.slip_scenario
-    change = SurfaceChange(foot=scenario.foot, time=scenario.time, surface=scenario.surface)
-    climb_ = params.climb.model_copy(update={"surface_change": change})
-    params = params.model_copy(update={"climb": climb_})
+    params = params.model_copy(update={"climb": scenario_climb(scenario, params.climb)})
     spec = spec_for(params, ctx, slip_name(scenario), trajectory, None, "evaluate.slip_scenario")
-    title = (
-        f"{ctx.name} on {params.surface}: {scenario.trajectory}, {scenario.foot} on"
-        f" {scenario.surface} at {scenario.time:g} s"
-    )
-    return spec, title
+    return spec, slip_title(ctx.name, params.surface, scenario)
 
 
 def slip_comparison(
@@ -68,6 +56,4 @@ def slip_comparison(
     (:func:`compare_controllers`, its files in ``out_dir``, ``workers`` as there): per
     controller its slip_distance, slip_path, max_slip_velocity and fell."""
     console.print(f"slip comparison: {title}, under each of {', '.join(CONTROLLERS)}")
-    table = compare_controllers(spec, out_dir, title, workers, "slip comparison")
-    keys = ("slip_distance", "slip_path", "max_slip_velocity", "fell")
-    return {controller: {k: row[k] for k in keys} for controller, row in table.items()}
+    return slip_table(compare_controllers(spec, out_dir, title, workers, "slip comparison"))

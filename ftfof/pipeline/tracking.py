@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ftfof.pipeline import catalog, machine
+from ftfof.report import run_metrics
 
 if TYPE_CHECKING:
     from ftfof.config import Params
@@ -107,29 +108,11 @@ def git_commit() -> str:
     return out.stdout.strip() or "unknown"
 
 
-def flatten(data: dict, prefix: str = "") -> dict[str, str]:
-    """Nested settings as MLflow params: dotted keys, string values."""
-    out: dict[str, str] = {}
-    for key, value in data.items():
-        name = f"{prefix}{key}"
-        if isinstance(value, dict):
-            out.update(flatten(value, f"{name}."))
-        else:
-            out[name] = str(value)
-    return out
-
-
 def run_params(params: Params, **sections: object) -> dict[str, str]:
-    """What a stage's run logs as MLflow params: its settings ``sections``, the robot and
-    surface, and the seeds every random stream comes from (``base.seed``, and the search's)."""
-    return flatten(
-        {
-            **sections,
-            "robot": params.robot,
-            "surface": params.surface,
-            "base": {"seed": params.base.seed, "search_seed": params.search_seed},
-        }
-    )
+    """What a stage's run logs as MLflow params (:func:`ftfof.report.run_metrics.run_settings`):
+    its settings ``sections``, the robot and surface, and the seeds."""
+    seeds = (params.base.seed, params.search_seed)
+    return run_metrics.run_settings(sections, params.robot, params.surface, *seeds)
 
 
 def latest_run(mlflow, experiment: str, run_name: str, tag: str, value: str) -> str | None:

@@ -1,6 +1,7 @@
 """Each stage's report as the metrics its MLflow run logs, in the one naming scheme of every
 metric (:func:`metric_name`), without NaN or infinities (:func:`finite`); one builder per stage,
-as :mod:`ftfof.report.stage_summaries` has one summariser per stage for DVC."""
+as :mod:`ftfof.report.stage_summaries` has one summariser per stage for DVC; and the settings a
+run logs as params (:func:`run_settings`)."""
 
 from __future__ import annotations
 
@@ -23,6 +24,33 @@ def metric_name(scope: str, *parts: object) -> str:
     if not parts:
         raise ValueError(f"metric {scope!r} has no name after its scope")
     return ".".join([scope, *(_PART.sub("_", str(p)).strip("_") for p in parts)])
+
+
+def flatten(data: Mapping[str, Any], prefix: str = "") -> dict[str, str]:
+    """Nested settings as MLflow params: dotted keys, string values."""
+    out: dict[str, str] = {}
+    for key, value in data.items():
+        name = f"{prefix}{key}"
+        if isinstance(value, dict):
+            out.update(flatten(value, f"{name}."))
+        else:
+            out[name] = str(value)
+    return out
+
+
+def run_settings(
+    sections: Mapping[str, object], robot: str, surface: str, seed: int, search_seed: int
+) -> dict[str, str]:
+    """What a stage's run logs as MLflow params: its settings ``sections``, the robot and
+    surface, and the seeds every random stream comes from (``base.seed``, and the search's)."""
+    return flatten(
+        {
+            **sections,
+            "robot": robot,
+            "surface": surface,
+            "base": {"seed": seed, "search_seed": search_seed},
+        }
+    )
 
 
 def finite(metrics: Mapping[str, float]) -> dict[str, float]:

@@ -20,6 +20,8 @@ import numpy as np
 from scipy.optimize import minimize
 
 import ftfof.config as config
+from ftfof.errors import ParamsError
+from ftfof.identify.calibration import fit_bounds
 from ftfof.sim import film
 from ftfof.sim.pool import run_all
 from ftfof.sim.records import SampleResult
@@ -92,6 +94,30 @@ def trial_of(
         foot = foot.model_copy(update={"backing": foot.backing.model_copy(update=backing)})
     on_surface = {k: v for k, v in values.items() if k not in FOOT}
     return surface.model_copy(update=on_surface), foot
+
+
+def fit_start(
+    name: str,
+    robot: config.Robot,
+    surface: config.Surface,
+    third: str | None,
+    fixed: dict[str, float],
+    bounds: dict[str, tuple[float, float]],
+) -> tuple[dict[str, tuple[float, float]], config.Surface, config.Robot]:
+    """A fit's ranges (:func:`ftfof.identify.calibration.fit_bounds`, ``bounds`` overriding),
+    its start (``fixed`` set on ``surface``) and robot ``name`` on the start's foot; a backing
+    modulus held or bounded is refused where the foot has no backing."""
+    foot = robot.platform.foot
+    if "backing_modulus" in {*fixed, *bounds} and foot.model != "plate":
+        raise ParamsError("--fix/--bound backing_modulus", f"{name}'s foot has no backing")
+    fitted = fit_bounds(third, fixed, bounds, backing=foot.model == "plate")
+    start, foot = trial_of(surface, foot, fixed)
+    return fitted, start, with_foot(robot, foot)
+
+
+def with_foot(robot: config.Robot, foot: config.FootMechanics) -> config.Robot:
+    """``robot`` on ``foot`` (a trial's backing)."""
+    return robot.model_copy(update={"platform": robot.platform.model_copy(update={"foot": foot})})
 
 
 def start_value(surface: config.Surface, foot: config.FootMechanics, name: str) -> float:

@@ -102,3 +102,13 @@ def test_assembled_tables_carry_their_provenance_and_a_sample_in_two_is_refused(
     assert summary["samples"] == 14 and summary["excluded_failed"] == 1
     with pytest.raises(DataError, match="sample 'sampled:0' appears twice"):
         dataset.assemble([acquired, acquired.slice(0, 1)], cfg, 3, 0.6, provenance)
+
+
+def test_the_provenance_hashes_what_the_dataset_is_built_from_and_names_the_simulator(params):
+    built = dataset.built_from(7, "r", params.selected_robot.timing, params.dataset)
+    versions = {"exudyn": "1.0", "ftfof": "2.0"}
+    made = dataset.provenance(built, "glass", {"exudyn": "0.9"}, versions)
+    assert made["exudyn"] == "0.9" and made["ftfof"] == "2.0" and made["robot"] == "r"
+    assert dataset.provenance(built, "glass", {}, versions)["exudyn"] == "1.0"
+    other = dataset.built_from(8, "r", params.selected_robot.timing, params.dataset)
+    assert dataset.provenance(other, "glass", {}, versions)["params_hash"] != made["params_hash"]

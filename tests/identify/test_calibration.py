@@ -2,8 +2,8 @@
 
 import pytest
 
-from ftfof.errors import ParamsError
-from ftfof.identify.calibration import fit_bounds, parse_bounds, parse_fixes
+from ftfof.errors import DataError, ParamsError
+from ftfof.identify.calibration import fit_bounds, fitted_strength, parse_bounds, parse_fixes
 
 
 def test_fixes_and_bounds_parse_to_values_in_si():
@@ -42,3 +42,15 @@ def test_a_bad_key_or_range_is_one_error_naming_it(fixes, bounds, third, message
         fit_bounds(third, parse_fixes(fixes), parse_bounds(bounds))
     assert str(err.value).startswith(message)
     assert "\n" not in str(err.value)
+
+
+def test_the_strength_is_the_fitted_or_held_one_of_the_surface_it_calibrates():
+    report = {"surface": "glass", "fixed": {"strength": 2.0}, "values": {"strength": 3.0}}
+    assert fitted_strength(report, "glass", "r.json") == 3.0
+    assert fitted_strength({**report, "values": {}}, "glass", "r.json") == 2.0
+    with pytest.raises(DataError, match=r"r\.json: calibrates surface 'glass', not 'ice'"):
+        fitted_strength(report, "ice", "r.json")
+    with pytest.raises(DataError, match="has no strength"):
+        fitted_strength({**report, "fixed": {}, "values": {}}, "glass", "r.json")
+    with pytest.raises(DataError, match="not a calibration report"):
+        fitted_strength([1], "glass", "r.json")

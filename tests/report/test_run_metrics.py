@@ -61,3 +61,15 @@ def test_a_models_metrics_are_its_validation_errors_and_best_epoch():
 
 def test_a_polish_that_did_not_polish_logs_its_time_alone():
     assert run_metrics.polish({"polished": False, "seconds": 3.0}) == {"time.seconds": 3.0}
+
+
+def test_a_runs_settings_are_dotted_strings_beside_the_robot_surface_and_seeds():
+    logged = run_metrics.run_settings({"polish": {"a": {"b": 1}, "c": None}}, "r", "glass", 3, 4)
+    assert logged == {
+        "polish.a.b": "1",
+        "polish.c": "None",
+        "robot": "r",
+        "surface": "glass",
+        "base.seed": "3",
+        "base.search_seed": "4",
+    }

@@ -45,3 +45,19 @@ def test_directories_are_listed_only_where_every_source_file_is_imported():
     assert "ftfof/config" in deps and not any(d.startswith("ftfof/surrogate") for d in deps)
     for d in deps:
         assert (ROOT / d).exists(), d
+
+
+def test_an_output_git_tracks_is_one_dvc_does_not_cache():
+    """DVC refuses to cache a file git tracks ("already tracked by SCM"): each committed report
+    is an uncached output (the refine report once was not, and a paper-scale run stopped)."""
+    import subprocess
+
+    tracked = set(subprocess.run(
+        ["git", "ls-files", "reports", "data"], cwd=ROOT, capture_output=True, text=True, check=True
+    ).stdout.split())  # fmt: skip
+    stages = yaml.safe_load(COMMITTED)["stages"]
+    for name, stage in stages.items():
+        for entry in stage.get("outs", []):
+            path, options = (entry, {}) if isinstance(entry, str) else next(iter(entry.items()))
+            if path in tracked:
+                assert options.get("cache") is False, f"{name}: {path} is in git and cached"

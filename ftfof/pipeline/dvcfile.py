@@ -92,7 +92,7 @@ def _kind(name: str) -> tuple[str, dict[str, bool] | None]:
         return "plots", {"cache": False}
     if name in PERSIST:
         return "outs", {"persist": True}  # an interrupted run resumes from its parts
-    if name in UNCACHED or ARTEFACTS[name].format == "json":
+    if name in UNCACHED or ARTEFACTS[name].path.suffix == ".json":  # committed to git
         return "outs", {"cache": False}
     return "outs", None
 

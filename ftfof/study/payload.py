@@ -12,11 +12,15 @@ until that is under the resolution.
 
 from __future__ import annotations
 
+import os
+from collections.abc import Iterator, Mapping
+from concurrent.futures import FIRST_COMPLETED, Future, wait
 from dataclasses import dataclass, field, replace
 from typing import Any
 
 from ftfof.climb.model import ClimbSpec
-from ftfof.climb.outcome import Climbed
+from ftfof.climb.outcome import Climbed, run_climb
+from ftfof.sim.pool import fork_pool
 
 
 @dataclass
@@ -74,3 +78,28 @@ def climbs_every_step(out: Climbed) -> bool:
     """The climb neither fell nor failed and made all its steps."""
     run = out.run
     return not run.fell and not run.error and out.summary["steps_done"] == run.spec.climb.steps
+
+
+def loaded_climbs(
+    specs: Mapping[str, ClimbSpec], searches: Mapping[str, Bisection], workers: int
+) -> Iterator[Climbed]:
+    """Each climb as it ends, its verdict told to its trajectory's search, which then names its
+    next mass (the order the climbs end in changes no search: each one's climbs run in turn)."""
+    with fork_pool(workers or os.cpu_count() or 1) as pool:
+        running: dict[Future[Climbed], tuple[str, float]] = {}
+
+        def submit(name: str) -> None:
+            mass = searches[name].next()
+            if mass is not None:
+                running[pool.submit(run_climb, with_payload(specs[name], mass))] = (name, mass)
+
+        for name in specs:
+            submit(name)
+        while running:
+            done, _ = wait(running, return_when=FIRST_COMPLETED)
+            for future in done:
+                name, mass = running.pop(future)
+                climbed = future.result()
+                searches[name].tell(mass, climbs_every_step(climbed))
+                yield climbed
+                submit(name)

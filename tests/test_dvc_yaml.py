@@ -3,6 +3,7 @@ what the catalog and the import graph give, and the robot's stages stay in their
 
 from __future__ import annotations
 
+import pytest
 import yaml
 from typer.testing import CliRunner
 
@@ -61,3 +62,33 @@ def test_an_output_git_tracks_is_one_dvc_does_not_cache():
             path, options = (entry, {}) if isinstance(entry, str) else next(iter(entry.items()))
             if path in tracked:
                 assert options.get("cache") is False, f"{name}: {path} is in git and cached"
+
+
+def _modified(status: dict) -> dict[str, set[str]]:
+    """Per stage, the dependencies `dvc status --json` calls modified."""
+    out: dict[str, set[str]] = {}
+    for name, entries in status.items():
+        for entry in entries:
+            if isinstance(entry, dict):
+                deps = entry.get("changed deps", {})
+                out.setdefault(name, set()).update(d for d, why in deps.items() if why == "modified")
+    return out
+
+
+@pytest.mark.integration
+def test_dvc_status_after_a_controller_change_names_climb_and_slip_only(tmp_path):
+    """`dvc status` on a clean copy with the committed dvc.lock, before and after a controller's
+    source changes: the stages the change stales are climb and slip, not evaluate's platform
+    runs (without outputs every stage also reports them missing, and a lock behind the code
+    reports that code: both are there before the change too)."""
+    import json
+
+    from tests.pipeline import clone_to, run
+
+    repo = clone_to(tmp_path)
+    before = _modified(json.loads(run(repo, "dvc", "status", "--json").stdout))
+    control = repo / "ftfof/climb/control/feedforward.py"
+    control.write_text(control.read_text() + "\n# a change\n")
+    after = _modified(json.loads(run(repo, "dvc", "status", "--json").stdout))
+    stale = {name for name, deps in after.items() if deps - before.get(name, set())}
+    assert stale == {"climb", "slip"}, after

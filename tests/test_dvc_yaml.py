@@ -71,7 +71,8 @@ def _modified(status: dict) -> dict[str, set[str]]:
         for entry in entries:
             if isinstance(entry, dict):
                 deps = entry.get("changed deps", {})
-                out.setdefault(name, set()).update(d for d, why in deps.items() if why == "modified")
+                modified = {d for d, why in deps.items() if why == "modified"}
+                out.setdefault(name, set()).update(modified)
     return out
 
 

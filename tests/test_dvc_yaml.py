@@ -64,6 +64,26 @@ def test_an_output_git_tracks_is_one_dvc_does_not_cache():
                 assert options.get("cache") is False, f"{name}: {path} is in git and cached"
 
 
+def test_every_param_a_stage_reads_is_in_params_yaml():
+    """DVC stops a stage whose params key params.yaml lacks, even where the settings model has a
+    default (the climb stage stopped on evaluate.climb once): each key, ${...} resolved, is
+    there."""
+    import re
+
+    params = yaml.safe_load((ROOT / "params.yaml").read_text())
+
+    def at(key: str) -> object:
+        node: object = params
+        for part in key.split("."):
+            assert isinstance(node, dict) and part in node, f"params.yaml has no {key}"
+            node = node[part]
+        return node
+
+    for stage in yaml.safe_load(COMMITTED)["stages"].values():
+        for key in stage["params"]:
+            at(re.sub(r"\$\{([\w.]+)\}", lambda m: str(at(m[1])), key))
+
+
 def _modified(status: dict) -> dict[str, set[str]]:
     """Per stage, the dependencies `dvc status --json` calls modified."""
     out: dict[str, set[str]] = {}

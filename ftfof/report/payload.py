@@ -30,6 +30,8 @@ def payload_figure(margins: Mapping[str, Mapping[str, Any]], title: str) -> Figu
             ax.text(grams[i], i, "  climbed at the ceiling", va="center")
     ax.plot([], [], "x", color="tab:red", label="fell")
     ax.invert_yaxis()
+    ceiling = max(1e3 * m["ceiling"] for m in margins.values())
+    ax.set_xlim(0, 1.45 * ceiling)  # room for the notes beside the bars
     ax.set(xlabel="mass added to the trunk [g]", title=title)
-    ax.legend(loc="lower right", fontsize=8)
+    ax.legend(loc="lower right", fontsize=8, framealpha=1)
     return fig

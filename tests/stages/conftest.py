@@ -19,6 +19,11 @@ TINY_POLISH = {"population": 4, "generations": 4}  # 2 made no offspring the rul
 def refined_tiny(trained, tmp_path_factory):
     """The tiny models optimised, and refine (no rounds) passing the optimum on: what polish
     starts from. (work, params path, MLflow env, params data, the train directory)"""
+    return refine_tiny(trained, tmp_path_factory)
+
+
+def refine_tiny(trained, tmp_path_factory):
+    """:func:`refined_tiny`'s run, for a fixture of either scope."""
     tmp, uri, data = trained
     data = copy.deepcopy(data)
     data["optimize"] = {**data["optimize"], **TINY_OPTIMIZE}
@@ -50,9 +55,12 @@ def refined_tiny(trained, tmp_path_factory):
     return work, params, env, data, tmp
 
 
-@pytest.fixture(scope="module")
-def evaluated(refined_tiny):
-    work, params, env, data, _ = refined_tiny
+@pytest.fixture(scope="session")
+def evaluated(trained, tmp_path_factory):
+    """The tiny run polished, climbed, slipped, studied and evaluated: once for every module
+    that reads it (each rebuilt it in 90 s before), on a refined run of its own (polish's tests
+    polish theirs)."""
+    work, params, env, data, _ = refine_tiny(trained, tmp_path_factory)
     figures = work / "figures"
     result = runner.invoke(app, polish_args(params, work / "refine", work / "polish"), env=env)
     assert result.exit_code == 0, result.output

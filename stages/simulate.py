@@ -17,7 +17,6 @@ if TYPE_CHECKING:
 
 OUT_DIR = catalog.path("simulate")
 TRAJECTORIES = catalog.path("trajectories")
-OPTIMIZE = catalog.path("polish_optimize")  # not read: simulate names no front row
 
 
 @stage
@@ -47,7 +46,7 @@ def command(
     params = load_params(params_path)
     ctx = context_of(params)
     on = bench(params, ctx)
-    name, trajectory, X, _ = trajectory_of(params, ctx, source, OPTIMIZE, trajectories)
+    name, trajectory, X, _ = trajectory_of(params, ctx, source, trajectories=trajectories)
     if X is None:  # a common baseline, as the pipeline simulates it
         spec = baseline_specs(on, {name: trajectory})[0]
     else:

@@ -180,11 +180,18 @@ def path(name: str) -> Path:
     return ARTEFACTS[name].path
 
 
+def placed(name: str, reports: Path, data: Path) -> Path:
+    """The artefact ``name`` at the catalog's place under other ``reports`` and ``data`` folders
+    (tests write into temporary ones)."""
+    own = path(name)
+    root, base = (reports, REPORTS) if own.is_relative_to(REPORTS) else (data, DATA)
+    return Path(root) / own.relative_to(base)
+
+
 def summary_beside(metrics: Path, stage: str) -> Path:
     """Where ``stage`` writes its short DVC summary when its full report goes to ``metrics``:
-    at the catalog's place relative to the reports folder, wherever that folder is (tests write
-    reports into a temporary folder)."""
-    return Path(metrics).parent / path(f"{stage}_summary").relative_to(REPORTS)
+    at the catalog's place relative to the reports folder, wherever that folder is."""
+    return placed(f"{stage}_summary", Path(metrics).parent, DATA)
 
 
 def writer_of(path: Path) -> str | None:

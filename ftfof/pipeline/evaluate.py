@@ -28,6 +28,7 @@ from ftfof.pipeline.artefacts import (
     read_refine,
 )
 from ftfof.pipeline.bench import baseline_trajectories, bench, context_of
+from ftfof.pipeline.catalog import placed
 from ftfof.pipeline.console import console
 from ftfof.pipeline.jobs import FINAL, Acquisition
 from ftfof.pipeline.registry import model_record, promote
@@ -66,15 +67,8 @@ class Robot:
     @classmethod
     def at(cls, reports: Path, data: Path) -> Robot:
         """The catalog's places under ``reports`` and ``data`` (tests use temporary ones)."""
-        from ftfof.pipeline.catalog import DATA, REPORTS, path
-
-        def under(name: str) -> Path:
-            own = path(name)
-            root, base = (reports, REPORTS) if own.is_relative_to(REPORTS) else (data, DATA)
-            return root / own.relative_to(base)
-
-        names = ("climbs_table", "climb_table", "slips", "slip_table", "eps_study")
-        return cls(*(under(n) for n in names), under("eps_study_figure"))
+        names = ("climbs_table", "climb_table", "slips", "slip_table")
+        return cls(*(placed(n, reports, data) for n in (*names, "eps_study", "eps_study_figure")))
 
 
 def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:

@@ -5,6 +5,7 @@ dependencies from it; the layering test reads the same graph."""
 from __future__ import annotations
 
 import ast
+from functools import cache
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]  # the checkout: ftfof/ and stages/ beside
@@ -20,7 +21,8 @@ def module_file(module: str) -> Path | None:
     return None
 
 
-def imported_modules(path: Path) -> set[str]:
+@cache  # read once a process: dvc.yaml's twelve stages walk the same files
+def imported_modules(path: Path) -> frozenset[str]:
     """Every project module ``path`` names in an import, wherever the import stands, but inside a
     module's ``__getattr__`` (PEP 562): an attribute loaded on first use, which importing the
     module does not load (``ftfof.open_run``)."""
@@ -43,7 +45,7 @@ def imported_modules(path: Path) -> set[str]:
                 base = f"{parent}.{base}" if base else parent
             found.add(base)
             found.update(f"{base}.{alias.name}" for alias in node.names)
-    return {m for m in found if m.split(".")[0] in PACKAGES}
+    return frozenset(m for m in found if m.split(".")[0] in PACKAGES)
 
 
 def with_parents(module: str) -> list[str]:

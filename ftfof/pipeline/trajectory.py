@@ -22,13 +22,14 @@ from ftfof.pipeline.catalog import path
 from ftfof.robot import RobotContext
 
 SAMPLED = path("trajectories")
+FRONT = path("polish_optimize")
 
 
 def trajectory_of(
     params: Params,
     ctx: RobotContext,
     source: Source,
-    optimize: Path,
+    optimize: Path = FRONT,
     trajectories: Path = SAMPLED,
 ) -> Picked:
     """(name, trajectory, decision row or None for an analytic baseline, metadata of where it

@@ -13,6 +13,7 @@ from stages.common import ParamsOption, WorkersOption, console, stage
 
 OUT = path("slips")
 RECORD = path("slip_table")
+ERRORS = ("mu_error", "adhesion_error")  # the estimator's, median over the slips
 
 
 @stage
@@ -29,9 +30,11 @@ def command(
     doc = run(load_params(params_path), out, record, workers)
     for controller, row in (doc["slip"] or {}).items():
         fell = "FELL" if row["fell"] else "climbed"
+        errors = " / ".join("-" if row[k] is None else f"{100 * row[k]:.0f} %" for k in ERRORS)
         console.print(
             f"  {controller:8s} slip {1e3 * row['slip_distance']:7.3f} mm, "
-            f"peak {1e3 * row['max_slip_velocity']:7.2f} mm/s, {fell}"
+            f"peak {1e3 * row['max_slip_velocity']:7.2f} mm/s, {fell}; "
+            f"estimate error mu / F_adh {errors} over {row['estimated_slips']:g} slips"
         )
     if doc["slip"] is None:
         console.print("no comparison: evaluate.slip_comparison is off or the robot cannot climb")

@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from ftfof.climb.control.controllers import COMPOSITIONS
+from ftfof.climb.estimates import SlipEpisode, episodes, estimate_summary
 from ftfof.climb.imu import ImuModel, imu_channels
 from ftfof.climb.legs import stroke_breach
 from ftfof.climb.metrics import (
@@ -42,6 +43,7 @@ class Climbed:
     steps: list[StepMetrics]
     summary: dict[str, float | bool]
     slip: SlipTotals
+    estimates: list[SlipEpisode]  # each slip's estimate beside its pad's truth
 
 
 def checked_name(
@@ -96,7 +98,9 @@ def run_climb(spec: ClimbSpec) -> Climbed:
         if run.gait.lift_off(k) < reached
     ]
     slip = slip_totals(c)
-    return Climbed(spec.name, run, imu, steps, {**summary(steps, run.fell), **slip.summary()}, slip)
+    slips = episodes(spec, c, run.estimates)
+    figures = {**summary(steps, run.fell), **slip.summary(), **estimate_summary(slips)}
+    return Climbed(spec.name, run, imu, steps, figures, slip, slips)
 
 
 def channel_columns(c: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
@@ -125,7 +129,7 @@ def channel_columns(c: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
 
 def document(out: Climbed) -> dict[str, Any]:
     """A climb's JSON document: its summary, how it ended, what the controller did, the slip by
-    foot and one row per step."""
+    foot, each slip's estimate against its pad's truth and one row per step."""
     run = out.run
     return {
         "trajectory": out.name,
@@ -135,18 +139,19 @@ def document(out: Climbed) -> dict[str, Any]:
         "controller": run.spec.climb.controller,
         "control": run.control,
         "slip_by_foot": out.slip.by_foot(),
+        "slip_estimates": [e.row() for e in out.estimates],
         "steps": [{k: plain(v) for k, v in row.items()} for row in as_rows(out.steps)],
     }
 
 
 def controller_row(out: Climbed) -> dict[str, Any]:
     """One controller's row of a comparison: its slip_distance, slip_path, max_slip_velocity,
-    fell, fall, steps_done and what it did."""
+    its estimator's median mu_error and adhesion_error over its estimated_slips, fell, fall,
+    steps_done and what it did."""
     s = out.summary
+    figures = ("slip_distance", "slip_path", "max_slip_velocity")
     return {
-        "slip_distance": plain(s["slip_distance"]),
-        "slip_path": plain(s["slip_path"]),
-        "max_slip_velocity": plain(s["max_slip_velocity"]),
+        **{k: plain(s[k]) for k in (*figures, "mu_error", "adhesion_error", "estimated_slips")},
         "fell": out.run.fell,
         "fall": out.run.fall_reason,
         "steps_done": plain(s["steps_done"]),

@@ -19,7 +19,7 @@ from ftfof.climb.control.controllers import compose
 from ftfof.climb.control.feedforward import FeedForward
 from ftfof.climb.control.replan import Replanner
 from ftfof.climb.control.slip import SlipDetector
-from ftfof.climb.control.state import Pads
+from ftfof.climb.control.state import Pads, SlipEstimate
 from ftfof.climb.gait import LEGS, Gait
 from ftfof.climb.legs import SagittalChain, sagittal_chain
 from ftfof.climb.loop import ClimbLoop, channel_slices
@@ -45,6 +45,7 @@ class ClimbRun:
     steps: int  # solver steps
     imu_reference: Array = field(repr=False)  # (T, 4) t, ax, az, angular acc. from the solver
     control: dict[str, int] = field(default_factory=dict)  # what the controller did, if any
+    estimates: list[SlipEstimate] = field(default_factory=list)  # its estimator's, per slip
 
     @property
     def ok(self) -> bool:
@@ -175,4 +176,5 @@ def climb(
         steps=loop.steps,
         imu_reference=np.asarray(model.mbs.GetSensorStoredData(model.imu_sensor)),
         control=control_counts(control, replanner),
+        estimates=[] if control is None else control.estimates,
     )

@@ -18,7 +18,16 @@ from ftfof.config.stages import Climb, SlipScenario, Solver, SurfaceChange
 from ftfof.seeds import seed_for
 from ftfof.trajectory.piecewise import PiecewiseQuintic
 
-SLIP_FIGURES = ("slip_distance", "slip_path", "max_slip_velocity", "fell")  # the slip table's
+# the slip table's: the slides, the estimator's median errors over its slips (ftfof.climb.estimates)
+SLIP_FIGURES = (
+    "slip_distance",
+    "slip_path",
+    "max_slip_velocity",
+    "mu_error",
+    "adhesion_error",
+    "estimated_slips",
+    "fell",
+)
 
 
 def climb_spec_of(

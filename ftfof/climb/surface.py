@@ -56,6 +56,16 @@ def switch_of(
     return SurfaceSwitch(config.LEG_NAMES.index(change.foot), change.time, surfaces[change.surface])
 
 
+def surface_at(
+    switch: SurfaceSwitch | None, surface: config.Surface, leg: int, time: float
+) -> config.Surface:
+    """The preset ``leg``'s pad stands on at ``time``: the climb's ``surface``, or the switch's
+    from its time on where it moves that pad."""
+    if switch is not None and switch.leg == leg and time >= switch.time:
+        return switch.surface
+    return surface
+
+
 class PadSwitch:
     """A switch armed in a built system: its law made with the system, applied once."""
 

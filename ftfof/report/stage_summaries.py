@@ -164,9 +164,11 @@ def climb(report: Report) -> dict[str, Any]:
 
 
 def slip(report: Report) -> dict[str, Any]:
-    """Per controller, the slid foot's distance and whether the robot fell."""
+    """Per controller, the slid foot's distance, whether the robot fell, and its estimator's
+    median errors over the slips."""
     table = report.get("slip") or {}
-    return {c: _keys(row, "slip_distance", "fell") for c, row in table.items()}
+    figures = ("slip_distance", "fell", "mu_error", "adhesion_error")
+    return {c: _keys(row, *figures) for c, row in table.items()}
 
 
 def study(report: Report) -> dict[str, Any]:

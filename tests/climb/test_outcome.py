@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import math
 from types import SimpleNamespace
 
@@ -9,10 +10,12 @@ import numpy as np
 import pytest
 
 from ftfof.climb import outcome
+from ftfof.climb.estimates import SlipEpisode
 from ftfof.climb.metrics import SlipTotals
 from ftfof.climb.outcome import Climbed
 from ftfof.config import LEG_NAMES
 from ftfof.errors import ParamsError
+from ftfof.identify.estimate import Estimate
 from ftfof.trajectory.baselines import BezierTrajectory
 
 
@@ -63,9 +66,12 @@ def _climbed(fell: bool) -> Climbed:
         control={"slipping": 2},
     )
     summary = {"slip_distance": np.float64(2e-3), "slip_path": 6e-3, "max_slip_velocity": 7e-3,
-               "steps_done": np.float64(3.0), "jitter": math.nan, "fell": fell}  # fmt: skip
+               "steps_done": np.float64(3.0), "jitter": math.nan, "fell": fell,
+               "mu_error": np.float64(0.5), "adhesion_error": math.nan,
+               "estimated_slips": 1.0}  # fmt: skip
     slip = SlipTotals(np.full(4, 5e-4), np.full(4, 1.5e-3), np.array([7e-3, 1e-3, 0.0, 2e-3]))
-    return Climbed("eps_bezier.both", run, {}, [], summary, slip)  # type: ignore[arg-type]
+    estimate = SlipEpisode(5.0, 3, 0.02, Estimate(0.45, math.inf), Estimate(0.3, 0.25))
+    return Climbed("eps_bezier.both", run, {}, [], summary, slip, [estimate])  # type: ignore[arg-type]
 
 
 def test_a_climbs_document_is_plain_json():
@@ -74,6 +80,10 @@ def test_a_climbs_document_is_plain_json():
     assert doc["fall"] == "FL let go" and "wall_time_s" not in doc  # the same on any machine
     assert doc["controller"] == "both" and doc["control"] == {"slipping": 2}
     assert list(doc["slip_by_foot"]) == list(LEG_NAMES) and doc["steps"] == []
+    (slip,) = doc["slip_estimates"]
+    assert slip["foot"] == "HR" and slip["mu"]["error"] == pytest.approx(0.5)
+    assert slip["adhesion"] == {"estimate": None, "truth": 0.25, "error": None}
+    json.dumps(doc, allow_nan=False)
 
 
 def test_a_controllers_row():
@@ -82,6 +92,9 @@ def test_a_controllers_row():
         "slip_distance": 2e-3,
         "slip_path": 6e-3,
         "max_slip_velocity": 7e-3,
+        "mu_error": 0.5,
+        "adhesion_error": None,
+        "estimated_slips": 1.0,
         "fell": False,
         "fall": "",
         "steps_done": 3.0,

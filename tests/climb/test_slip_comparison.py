@@ -20,6 +20,7 @@ def test_the_comparison_climbs_the_scenario_once_per_controller(params, tmp_path
     def compare(spec, out_dir, title, workers, label):
         seen.append(spec)
         row = {"slip_distance": 2e-3, "slip_path": 5e-3, "max_slip_velocity": 7e-3}
+        row |= {"mu_error": 0.05, "adhesion_error": None, "estimated_slips": 3.0}
         row |= {"fell": False, "fall": ""}
         return {c: {**row, "steps_done": 8} for c in CONTROLLERS}
 
@@ -34,9 +35,11 @@ def test_the_comparison_climbs_the_scenario_once_per_controller(params, tmp_path
     assert spec.switch == switch and spec.name == "slip_eps_bezier"
     assert set(table) == set(CONTROLLERS)
     figures = {"slip_distance": 2e-3, "slip_path": 5e-3, "max_slip_velocity": 7e-3}
+    figures |= {"mu_error": 0.05, "adhesion_error": None, "estimated_slips": 3.0}
     assert table["both"] == {**figures, "fell": False}
     metrics = run_metrics.evaluate({"table": {}, "fidelity": {}, "slip": table, "seconds": 1.0})
     assert metrics["slip.both.slip_distance"] == 2e-3 and metrics["slip.none.fell"] == 0.0
+    assert metrics["slip.both.mu_error"] == 0.05 and "slip.both.adhesion_error" not in metrics
 
 
 def test_a_scenario_on_an_unknown_surface_is_one_line_naming_its_key(params_dict):

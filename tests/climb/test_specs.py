@@ -33,5 +33,6 @@ def test_the_scenario_changes_only_the_climbs_surface_change(params):
 
 def test_the_slip_table_keeps_the_slip_figures_of_each_row():
     row = {"slip_distance": 1.0, "slip_path": 2.0, "max_slip_velocity": 3.0, "fell": True}
+    row |= {"mu_error": 0.1, "adhesion_error": None, "estimated_slips": 4.0}
     table = slip_table({"none": {**row, "steps_done": 8, "fall": "x"}})
     assert table == {"none": row}

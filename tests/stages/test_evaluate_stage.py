@@ -68,9 +68,13 @@ def test_the_slip_comparison_is_in_the_metrics_and_the_report(evaluated):
     work, *_ = evaluated
     slip = json.loads((work / "metrics.json").read_text())["slip"]
     assert set(slip) == {"none", "weights", "replan", "both"}
+    errors = {"mu_error", "adhesion_error"}
     for row in slip.values():
-        assert set(row) == {"slip_distance", "slip_path", "max_slip_velocity", "fell"}
+        figures = {"slip_distance", "slip_path", "max_slip_velocity", "fell", "estimated_slips"}
+        assert set(row) == figures | errors
         assert 0 <= row["slip_distance"] <= row["slip_path"] and row["fell"] is False
+        # the estimator's median errors over its slips: none (null) where it declared none
+        assert all((row[k] is None) == (row["estimated_slips"] == 0) for k in errors)
     out = work / "slip_comparison"
     assert (out / "slip_eps_bezier.controllers.png").exists()
     assert {p.name for p in out.glob("slip_eps_bezier.*.json")} == {
@@ -80,6 +84,7 @@ def test_the_slip_comparison_is_in_the_metrics_and_the_report(evaluated):
     section = html.split("<h2>Climbing under slip: the four controllers</h2>")[1].split("<h2>")[0]
     assert "HR's pad moved onto" in section and "dusty_wall at 1 s" in section
     assert [f"<tr><td>{c}</td>" in section for c in slip] == [True] * 4
+    assert "<th>μ error</th><th>F_adh error</th><th>slips estimated</th>" in section
     assert 'alt="the changed foot\'s slip under each controller"' in section
 
 

@@ -32,11 +32,12 @@ from numpy.typing import NDArray
 from ftfof.climb.control.adaptation import Adaptation
 from ftfof.climb.control.forces import ForceDistributor, Stance, wrench_map
 from ftfof.climb.control.replan import BodyPlan
-from ftfof.climb.control.replanning import Replanning
-from ftfof.climb.control.slip import SlipDetector
-from ftfof.climb.control.state import Counts, ForceWindow, Pads, Sensed
+from ftfof.climb.control.replanning import Replanning, believable
+from ftfof.climb.control.slip import SlipDetector, fit_pad
+from ftfof.climb.control.state import Counts, ForceWindow, Pads, Sensed, SlipEstimate
 from ftfof.climb.legs import SagittalChain
 from ftfof.config import GRAVITY
+from ftfof.identify.estimate import Estimate
 
 Array = NDArray[np.float64]
 CONTROL_RATE_HZ = 1000.0
@@ -63,6 +64,7 @@ class FeedForward:
     replanning: Replanning
     distributor: ForceDistributor = field(default_factory=ForceDistributor)
     counts: Counts = field(default_factory=Counts)
+    estimates: list[SlipEstimate] = field(default_factory=list)  # every slip's, in order
 
     def __post_init__(self) -> None:
         self.weights = np.tile(NOMINAL_WEIGHTS, (len(self.pads.friction), 1))
@@ -95,9 +97,8 @@ class FeedForward:
         threshold = self.detector.threshold
         weights = self.adaptation.weights(self.weights, slip_velocity, slipping, stance, threshold)
         now = Sensed(t, body, body_rate, plan, stance, feet, forces)
-        plan, new_plan = self.replanning.replan(
-            now, np.flatnonzero(slipping & ~was), self.believed, self.counts
-        )
+        estimated = self._estimate(now, np.flatnonzero(slipping & ~was))
+        plan, new_plan = self.replanning.replan(now, estimated, self.believed, self.counts)
         out = np.zeros((len(stance), 3))
         on = np.flatnonzero(stance)
         wrench = self._wrench(t, body, body_rate, plan) - self._others(stance, body, feet, forces)
@@ -110,6 +111,26 @@ class FeedForward:
         force = result.forces + self._trim(on, result.forces, forces, dt)
         out[on] = -np.einsum("nij,ni->nj", qp.jacobian, force)
         return out, new_plan
+
+    def _estimate(self, now: Sensed, slipped: NDArray[np.int64]) -> dict[int, Estimate]:
+        """Each foot that started to slip: its pad fitted from its last force samples, recorded
+        in :attr:`estimates` (the climb reports them against the pad's truth), and as the cone
+        would take it where that is believable (:func:`believable`). Every controller estimates;
+        only a re-planning one believes, so for the others the fit is a record and changes no
+        force (one Kalman update of ESTIMATE_SAMPLES samples per slip)."""
+        out = {}
+        for foot in map(int, slipped):
+            window = now.forces(foot)
+            if window is None:
+                continue
+            believed = self.believed
+            prior = Estimate(float(believed.friction[foot]), float(believed.adhesion[foot]))
+            fit = fit_pad(*window, prior=prior)
+            self.estimates.append(SlipEstimate(now.time, foot, fit))
+            got = believable(self.believed, foot, fit, *window)
+            if got is not None:
+                out[foot] = got
+        return out
 
     def _trim(self, on: Array, wanted: Array, forces: ForceWindow, dt: float) -> Array:
         """The stance feet's force trims, integrating what the pads miss of the QP's forces.

@@ -3,9 +3,10 @@
 :mod:`ftfof.climb.control.controllers`).
 
 - :class:`NoReplanning`: the nominal pads and the loop's plan throughout;
-- :class:`PadReplanning`: the slipping foot's pad is estimated from its last ESTIMATE_SAMPLES
-  force samples; the estimate replaces the believed pad in the QP and goes to the re-planner
-  (:mod:`ftfof.climb.control.replan`), whose plan the loop then tracks.
+- :class:`PadReplanning`: the slipping foot's pad as estimated from its last ESTIMATE_SAMPLES
+  force samples (:meth:`FeedForward.step <ftfof.climb.control.feedforward.FeedForward.step>`
+  estimates every slip, whatever the controller) replaces the believed pad in the QP and goes
+  to the re-planner (:mod:`ftfof.climb.control.replan`), whose plan the loop then tracks.
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ftfof.climb.control.replan import BodyPlan, Replanner, ReplanRequest
-from ftfof.climb.control.slip import estimate_adhesion, estimate_pad
+from ftfof.climb.control.slip import cone_of, estimate_adhesion
 from ftfof.climb.control.state import Counts, Pads, Sensed
 from ftfof.identify.estimate import Estimate
 
@@ -29,10 +30,11 @@ class Replanning(Protocol):
     """What a controller does about the feet that started to slip this control step."""
 
     def replan(
-        self, now: Sensed, slipped: NDArray[np.int64], believed: Pads, counts: Counts
+        self, now: Sensed, estimated: dict[int, Estimate], believed: Pads, counts: Counts
     ) -> tuple[BodyPlan, BodyPlan | None]:
         """The plan to track this step and the new plan the loop gets (None: keep its own),
-        after the feet ``slipped``; ``believed`` changes in place with what it learns."""
+        after the feet that started to slip this step, ``estimated`` their pads as the cone
+        takes them (:func:`believable`); ``believed`` changes in place with what it learns."""
         ...
 
 
@@ -40,7 +42,7 @@ class NoReplanning:
     """A slip changes neither the pads the QP believes nor the plan."""
 
     def replan(
-        self, now: Sensed, slipped: NDArray[np.int64], believed: Pads, counts: Counts
+        self, now: Sensed, estimated: dict[int, Estimate], believed: Pads, counts: Counts
     ) -> tuple[BodyPlan, BodyPlan | None]:
         return now.plan, None
 
@@ -52,25 +54,18 @@ class PadReplanning:
     replanner: Replanner
 
     def replan(
-        self, now: Sensed, slipped: NDArray[np.int64], believed: Pads, counts: Counts
+        self, now: Sensed, estimated: dict[int, Estimate], believed: Pads, counts: Counts
     ) -> tuple[BodyPlan, BodyPlan | None]:
         plan, new_plan = now.plan, None
-        for foot in slipped:
-            new_plan = self._replan(now, int(foot), plan, believed, counts)
+        for foot, got in estimated.items():
+            new_plan = self._replan(now, foot, got, plan, believed, counts)
             plan = new_plan or plan
         return plan, new_plan
 
     def _replan(
-        self, now: Sensed, foot: int, plan: BodyPlan, believed: Pads, counts: Counts
+        self, now: Sensed, foot: int, got: Estimate, plan: BodyPlan, believed: Pads, counts: Counts
     ) -> BodyPlan | None:
-        """Estimate the slipping foot's pad from its last forces, believe it, and ask for a
-        plan (an estimate that stays off the physical range is not believed)."""
-        window = now.forces(foot)
-        if window is None:
-            return None
-        got = estimate(believed, foot, *window)
-        if got is None:
-            return None
+        """Believe the slipping foot's estimated pad ``got`` and ask for a plan."""
         # the pull-off and F_adh are both s x strength x area: they scale together
         believed.pull_off[foot] *= got.adhesion / believed.adhesion[foot]
         believed.friction[foot], believed.adhesion[foot] = got.mu, got.adhesion
@@ -92,15 +87,15 @@ class PadReplanning:
         return new
 
 
-def estimate(believed: Pads, foot: int, fn: Array, ft: Array) -> Estimate | None:
-    """The pad's (mu, F_adh) from a window of its forces. Where the two-parameter fit gives
+def believable(believed: Pads, foot: int, fit: Estimate, fn: Array, ft: Array) -> Estimate | None:
+    """The pad's (mu, F_adh) as the cone takes them, from its tangential-form ``fit``
+    (:func:`~ftfof.climb.control.slip.fit_pad`) of the window ``fn``, ``ft``. Where the fit gives
     mu <= 0 or F_adh <= 0, the pad is losing its bonds as it slides (a peel under shear, not a
     slide on a fixed cone); its mu stays believed and only its F_adh, what it still holds, is
-    fitted.
-    None if even that is off the range (F_adh not finite, or <= 0)."""
-    mu = float(believed.friction[foot])
-    got = estimate_pad(fn, ft, prior=Estimate(mu, float(believed.adhesion[foot])))
+    fitted. None if even that is off the range (F_adh not finite, or <= 0)."""
+    got = cone_of(fit)
     if math.isfinite(got.mu) and math.isfinite(got.adhesion) and got.mu > 0 < got.adhesion:
         return got
+    mu = float(believed.friction[foot])
     adhesion = estimate_adhesion(fn, ft, mu)
     return Estimate(mu, adhesion) if math.isfinite(adhesion) and adhesion > 0 else None

@@ -90,28 +90,32 @@ def adapt_weights(nominal: Array, rate: Array, max_factor: float = MAX_FACTOR) -
     return out
 
 
-def estimate_pad(
+def fit_pad(
     fn: Array,
     ft: Array,
     method: Literal["kalman", "least_squares"] = "kalman",
     prior: Estimate | None = None,
 ) -> Estimate:
-    """mu and F_adh of a slipping foot's pad from a window of its measured forces, F_adh as the
-    controller's cone takes it: the shift of mu (F_n + F_adh). The estimators fit the slip law's
-    tangential form F_t = mu F_n + F_a (:mod:`ftfof.identify.estimate`), the same line, so
-    F_adh = F_a / mu. While it slides, the pad's friction is at its limit whichever way it
-    slides, so |f_t| is what that law sees. ``prior`` is where the Kalman estimator starts (the
-    pad parameters the controller assumed, in its form); least squares needs none."""
+    """mu and F_adh of a slipping foot's pad from a window of its measured forces, in the slip
+    law's tangential form F_t = mu F_n + F_adh (:mod:`ftfof.identify.estimate`), F_adh in newtons
+    of shear as ``identify`` reports it. While it slides, the pad's friction is at its limit
+    whichever way it slides, so |f_t| is what that law sees. ``prior`` is where the Kalman
+    estimator starts, in the controller's cone form (the pad's assumed mu and cone shift F_adh /
+    mu); least squares needs none."""
     fn = np.asarray(fn, dtype=float)
     ft = np.abs(np.asarray(ft, dtype=float))
     if method == "least_squares":
-        fit = least_squares(fn, ft)
-    elif method != "kalman":
+        return least_squares(fn, ft)
+    if method != "kalman":
         raise ValueError(f"unknown estimator {method!r}: kalman or least_squares")
-    elif prior is None:
+    if prior is None:
         raise ValueError("the Kalman estimator starts from a prior: the pad's assumed mu, F_adh")
-    else:
-        fit = kalman(fn, ft, Estimate(prior.mu, prior.mu * prior.adhesion)).final
+    return kalman(fn, ft, Estimate(prior.mu, prior.mu * prior.adhesion)).final
+
+
+def cone_of(fit: Estimate) -> Estimate:
+    """A tangential-form fit (:func:`fit_pad`) as the controller's cone takes it: mu and the
+    shift of mu (F_n + F_adh), F_adh / mu."""
     shift = fit.adhesion / fit.mu if fit.mu != 0 else math.copysign(math.inf, fit.adhesion)
     return Estimate(fit.mu, shift)
 

@@ -10,6 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ftfof.climb.control.replan import BodyPlan
+from ftfof.identify.estimate import Estimate
 
 Array = NDArray[np.float64]
 
@@ -35,6 +36,17 @@ class Counts:
     slips: int = 0  # slips declared (a foot's rising edge)
     estimates: int = 0  # pads re-estimated
     replans: int = 0  # new plans the re-planner gave
+
+
+@dataclass(frozen=True)
+class SlipEstimate:
+    """What the estimator made of one slip: a foot's pad fitted from its force window at the
+    slip's declaration, in the slip law's tangential form (``identify``'s: F_adh in N of
+    shear), whether or not the controller believes it."""
+
+    time: float  # s: the control step that declared the slip
+    foot: int
+    fit: Estimate
 
 
 @dataclass(frozen=True)

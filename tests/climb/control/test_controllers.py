@@ -15,6 +15,7 @@ from ftfof.climb.control.replanning import NoReplanning, PadReplanning
 from ftfof.climb.control.state import Counts, Pads, Sensed
 from ftfof.climb.outcome import CONTROLLERS
 from ftfof.config.stages import Climb, Controller
+from ftfof.identify.estimate import Estimate
 from tests.climb.control.stances import ADHESION, FRICTION, PULL_OFF
 
 THRESHOLD = Climb().slip_threshold
@@ -34,6 +35,11 @@ def _new_plan(t):
 def _window(leg):
     fn = np.linspace(-2.0, 4.0, 15)
     return fn, 0.3 * (fn + 5.0)  # a pad of mu 0.3, F_adh 5 N
+
+
+def _estimated():
+    """FR's pad as the controller estimated it (mu 0.3, F_adh 5 N as the cone's shift)."""
+    return {FR: Estimate(0.3, 5.0)}
 
 
 def _pads():
@@ -100,10 +106,10 @@ def test_the_replanning_alone_believes_the_estimate_and_replaces_the_plan():
         return _new_plan
 
     believed, counts = _pads(), Counts()
-    plan, new = PadReplanning(replanner).replan(_now(), np.array([FR]), believed, counts)
+    plan, new = PadReplanning(replanner).replan(_now(), _estimated(), believed, counts)
     assert plan is _new_plan and new is _new_plan
     assert seen[0].plan is _plan and seen[0].foot == FR
-    assert believed.friction[FR] == pytest.approx(0.3, rel=0.05)
+    assert believed.friction[FR] == 0.3 and believed.adhesion[FR] == 5.0
     assert believed.friction[0] == FRICTION  # the others stay nominal
     assert counts.estimates == 1 and counts.replans == 1
 
@@ -111,13 +117,13 @@ def test_the_replanning_alone_believes_the_estimate_and_replaces_the_plan():
 def test_a_replanner_that_keeps_the_plan_leaves_the_loops_plan():
     believed, counts = _pads(), Counts()
     replanning = PadReplanning(lambda request: None)
-    plan, new = replanning.replan(_now(), np.array([FR]), believed, counts)
+    plan, new = replanning.replan(_now(), _estimated(), believed, counts)
     assert plan is _plan and new is None
     assert counts.estimates == 1 and counts.replans == 0
 
 
 def test_no_replanning_keeps_the_pads_and_the_plan_when_a_foot_slips():
     believed, counts = _pads(), Counts()
-    plan, new = NoReplanning().replan(_now(), np.array([FR]), believed, counts)
+    plan, new = NoReplanning().replan(_now(), _estimated(), believed, counts)
     assert plan is _plan and new is None
     assert np.array_equal(believed.friction, _pads().friction) and counts == Counts()

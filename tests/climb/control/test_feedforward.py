@@ -90,11 +90,30 @@ def test_replan_estimates_the_slipping_pad_and_tracks_the_plan_it_is_given(m3f):
     assert controller.counts.estimates == 1 and controller.counts.replans == 1
 
 
-def test_weights_alone_neither_estimates_nor_replans(m3f):
-    controller, chain = _controller(m3f, "weights")
+@pytest.mark.parametrize("name", ["none", "weights"])
+def test_without_replanning_the_slip_is_estimated_for_the_record_and_not_believed(m3f, name):
+    controller, chain = _controller(m3f, name)
     steps = round(SLIP_HOLD * CONTROL_RATE_HZ) + 2
     _run(controller, chain, SLIDING, steps)
     assert controller.counts.slips == 1 and controller.counts.estimates == 0
+    (record,) = controller.estimates
+    assert record.foot == 1 and record.time == pytest.approx(SLIP_HOLD - 1 / CONTROL_RATE_HZ)
+    # the tangential form: F_adh in N of shear, mu times the cone's 5 N shift
+    assert record.fit.mu == pytest.approx(0.3, rel=0.05)
+    assert record.fit.adhesion == pytest.approx(1.5, rel=0.05)
+    assert np.all(controller.believed.friction == FRICTION)
+    assert np.all(controller.believed.adhesion == ADHESION)
+
+
+def test_the_recorded_estimate_changes_no_force(m3f):
+    """The passive estimate is a record: a `none` climb's torques are those of a controller
+    whose forces never reach an estimate (the foot still, no slip declared)."""
+    steps = round(SLIP_HOLD * CONTROL_RATE_HZ) + 5
+    sliding, chain = _controller(m3f, "none")
+    still, _ = _controller(m3f, "none")
+    torques, _ = _run(sliding, chain, SLIDING, steps)
+    assert np.array_equal(torques, _run(still, chain, np.zeros(4), steps)[0])
+    assert len(sliding.estimates) == 1 and not still.estimates
 
 
 def test_adapted_weights_hold_through_the_phase_after_the_slip_stops_and_reset_with_it(m3f):

@@ -11,8 +11,9 @@ from ftfof.climb.control.forces import ForceDistributor
 from ftfof.climb.control.slip import (
     SlipDetector,
     adapt_weights,
+    cone_of,
     estimate_adhesion,
-    estimate_pad,
+    fit_pad,
     slip_rate,
 )
 from ftfof.identify.estimate import Estimate
@@ -108,7 +109,7 @@ def test_the_estimate_recovers_the_pad_within_ten_percent_in_30_ms(method, seed)
     fn, ft = _slip_window(seed)
     prior = Estimate(0.45, 5.6)  # the controller assumed a pad 25-30 % off
     for sign in (1.0, -1.0):  # sliding down or up: the friction law sees |f_t|
-        est = estimate_pad(fn, sign * ft, method, prior)
+        est = cone_of(fit_pad(fn, sign * ft, method, prior))
         assert est.mu == pytest.approx(MU, rel=0.1)
         assert est.adhesion == pytest.approx(ADHESION, rel=0.1)
 
@@ -116,9 +117,9 @@ def test_the_estimate_recovers_the_pad_within_ten_percent_in_30_ms(method, seed)
 def test_the_estimate_refuses_an_unknown_method_or_a_kalman_without_prior():
     fn, ft = _slip_window()
     with pytest.raises(ValueError, match="prior"):
-        estimate_pad(fn, ft, "kalman")
+        fit_pad(fn, ft, "kalman")
     with pytest.raises(ValueError, match="unknown estimator"):
-        estimate_pad(fn, ft, "median")  # type: ignore[arg-type]
+        fit_pad(fn, ft, "median")  # type: ignore[arg-type]
 
 
 def _peel_window() -> tuple[np.ndarray, np.ndarray]:
@@ -131,7 +132,7 @@ def _peel_window() -> tuple[np.ndarray, np.ndarray]:
 
 def test_a_pad_that_loses_its_bonds_as_it_slides_fits_a_negative_mu():
     fn, ft = _peel_window()
-    assert estimate_pad(fn, ft, "least_squares").mu < 0
+    assert fit_pad(fn, ft, "least_squares").mu < 0
 
 
 def test_the_adhesion_estimate_with_mu_known_is_what_the_peeling_pad_still_holds():

@@ -97,6 +97,9 @@ class Dataset(Strict):
     hold: NonNegativeFloat = 0.1  # s of the landing hold after T3 kept in each sequence
     validation_fraction: Annotated[float, Field(gt=0, lt=1)] = 0.15
     plot_samples: PositiveInt = 4
+    # each target's values above Q3 + tail_fence IQR of its training peaks are compressed
+    # logarithmically before the GRU fits them (ftfof/data/tails.py); 0 = as they are
+    tail_fence: NonNegativeFloat = 3.0
 
 
 class Train(Strict):

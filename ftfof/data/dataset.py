@@ -14,6 +14,7 @@ from __future__ import annotations
 import json
 import warnings
 from collections import Counter
+from collections.abc import Callable
 from dataclasses import asdict, dataclass
 from typing import Any
 
@@ -22,6 +23,7 @@ import pyarrow as pa
 from numpy.typing import NDArray
 
 import ftfof.config as config
+from ftfof.data import tails
 from ftfof.data import targets as tg
 from ftfof.data.schema import field
 from ftfof.digests import json_sha256
@@ -111,26 +113,55 @@ def schema(seq_len: int) -> pa.Schema:
 
 @dataclass(frozen=True)
 class Normalization:
-    """Per-feature affine scaling fitted on the training split: (value - mean) / scale."""
+    """Per-feature affine scaling fitted on the training split: (value - mean) / scale; each
+    target's heavy tail tamed first (:mod:`ftfof.data.tails`), by ``target_tails``' (fence,
+    spread) per target (None: an older dataset, no taming)."""
 
     input_mean: list[float]
     input_scale: list[float]
     target_scale: list[float]  # targets are only scaled (they are >= 0 and 0 off their windows)
+    target_tails: list[list[float]] | None = None
 
     @classmethod
-    def fit(cls, inputs: Array, targets: Array) -> Normalization:
+    def fit(cls, inputs: Array, targets: Array, tail_fence: float = 0.0) -> Normalization:
         """``inputs`` (n, seq, 4), ``targets`` (n, seq, K) of the training split (NaN = missing);
-        each target's scale is its RMS over the samples that supply it."""
+        each target's scale is its RMS over the samples that supply it, its tail fence
+        ``tail_fence`` IQRs above the upper quartile of their peaks (0: no taming)."""
         mean = inputs.mean(axis=(0, 1))
         scale = inputs.std(axis=(0, 1))
         with warnings.catch_warnings():  # a target no training sample supplies: all NaN
             warnings.simplefilter("ignore", RuntimeWarning)
             tscale = np.sqrt(np.nanmean(targets**2, axis=(0, 1)))
+            peaks = np.nanmax(targets, axis=1)
         return cls(
             mean.tolist(),
             np.where(scale > 0, scale, 1.0).tolist(),
             np.where(tscale > 0, tscale, 1.0).tolist(),
+            [list(tails.fence(peaks[:, k], tail_fence)) for k in range(targets.shape[-1])],
         )
+
+    def tail(self, k: int) -> tuple[float, float]:
+        """Target ``k``'s (fence, spread); (0, 0) leaves it as it is."""
+        if self.target_tails is None:
+            return 0.0, 0.0
+        upper, spread = self.target_tails[k]
+        return float(upper), float(spread)
+
+    def to_model(self, targets: Array) -> Array:
+        """(..., K) targets in their units -> what the model fits: tamed, then scaled."""
+        return self._each(targets, tails.tame) / np.asarray(self.target_scale)
+
+    def from_model(self, y: Array) -> Array:
+        """The inverse of :meth:`to_model`: (..., K) model outputs -> targets in their units."""
+        return self._each(np.asarray(y, dtype=float) * np.asarray(self.target_scale), tails.untame)
+
+    def _each(self, values: Array, mapping: Callable[[Array, float, float], Array]) -> Array:
+        """``values`` (..., K) with each target's tail ``mapping`` applied, in a new array."""
+        out = np.array(values, dtype=float)
+        for k in range(out.shape[-1]):
+            if self.tail(k)[1] > 0:
+                out[..., k] = mapping(out[..., k], *self.tail(k))
+        return out
 
     def to_json(self) -> str:
         return json.dumps(asdict(self))
@@ -201,7 +232,7 @@ def build(
         raise DataError("dataset", "no training samples (only baselines?)")
     inputs = np.stack([seqs[k] for k in INPUTS], axis=-1)
     targets = np.stack([seqs[k] for k in TARGETS], axis=-1)
-    norm = Normalization.fit(inputs[train], targets[train])
+    norm = Normalization.fit(inputs[train], targets[train], settings.tail_fence)
     data = {
         "key": cols["key"],
         "source": sources,

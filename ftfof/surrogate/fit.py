@@ -171,10 +171,11 @@ def _fit_peaks(
         rows = np.isfinite(y) & np.isfinite(X).all(axis=1)
         if rows.sum() < MIN_PEAK_ROWS:
             continue
-        broad = _broad(name, names, previous, X[rows], y[rows])
+        tail = data.normalization.tail(TARGETS.index(name))
+        broad = _broad(name, names, previous, X[rows], y[rows], tail)
         local = rows & near
         if name in near_front_peaks and local.sum() >= MIN_NEAR_FRONT_ROWS:
-            out[name] = near_front(name, broad, X[local], y[local])
+            out[name] = near_front(name, broad, X[local], y[local], tail)
         elif broad is not None:
             out[name] = broad
     return out
@@ -188,17 +189,22 @@ def _only(
 
 
 def _broad(
-    name: str, names: list[str], previous: Mapping[str, PeakPredictor], X: np.ndarray, y: np.ndarray
+    name: str,
+    names: list[str],
+    previous: Mapping[str, PeakPredictor],
+    X: np.ndarray,
+    y: np.ndarray,
+    tail: tuple[float, float],
 ) -> PeakModel | None:
-    """The GP of ``name``'s peak over the whole design: refitted with the hyperparameters it has,
-    fitted anew if it has none, None if it is not one of ``names`` (its series model's maximum
-    stands in for it)."""
+    """The GP of ``name``'s peak over the whole design: refitted with the hyperparameters (and
+    tail) it has, fitted anew on the peaks with their ``tail`` tamed if it has none, None if it
+    is not one of ``names`` (its series model's maximum stands in for it)."""
     if name not in names:
         return None
     before = previous.get(name)
     if isinstance(before, NearFront):
         before = before.broad
-    return fit_peak_model(name, X, y) if before is None else before.refit(X, y)
+    return fit_peak_model(name, X, y, tail=tail) if before is None else before.refit(X, y)
 
 
 def peak_metrics(model: PeakPredictor, data: TrainingData, use: dict[str, Any]) -> dict[str, Any]:
@@ -286,9 +292,8 @@ def _train_one(
         warm_start=job.get("warm_start"),
         on_epoch=None if on_epoch is None else lambda epoch, *_: on_epoch(job["kind"], epoch),
     )
-    scale = np.asarray(data.target_scale)
-    pred = predict(trained.model, x_va) * scale
-    truth = y_va * scale
+    pred = data.normalization.from_model(predict(trained.model, x_va))
+    truth = data.normalization.from_model(y_va)
     return {
         **{k: v for k, v in job.items() if k != "warm_start"},
         "state": {k: v.numpy() for k, v in trained.model.state_dict().items()},

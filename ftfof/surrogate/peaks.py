@@ -37,6 +37,8 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.linalg import cho_factor, cho_solve
 
+from ftfof.data.tails import tame, untame
+
 Array = NDArray[np.float64]
 
 JITTER = 1e-10  # scikit-learn's default ``alpha``: added to the kernel's diagonal in a fit
@@ -58,11 +60,13 @@ class PeakModel:
     weights: Array = field(repr=False)  # ((K + noise I)^-1 y, 1): the last multiplies the mean
     log: bool = False  # fitted on log(peak): predictions exp(GP), never below zero
     floor: float = 0.0  # no prediction below this (the smallest peak a local GP was fitted on)
+    tail: tuple[float, float] = (0.0, 0.0)  # (fence, spread): peaks tamed before the fit
 
     def __call__(self, decisions: Array, series_peak: Array | None = None) -> Array:
         """The peaks; ``series_peak`` (the series model's maximum) is not needed here."""
         fitted = self._kernel(self._scaled(decisions)) @ self.weights
-        return np.maximum(np.exp(fitted) if self.log else fitted, self.floor)
+        peak = untame(np.exp(fitted) if self.log else fitted, *self.tail)
+        return np.maximum(peak, self.floor)
 
     def _scaled(self, decisions: Array) -> Array:
         X = np.atleast_2d(np.asarray(decisions, dtype=float))
@@ -89,7 +93,7 @@ class PeakModel:
         """The same GP (length scales, amplitude, noise, normalisation, floor) on other data: its
         rows with a finite (for a log model, positive) peak."""
         X = self._scaled(decisions)
-        y = (_fitted(peaks, self.log) - self.y_mean) / self.y_scale
+        y = (_fitted(peaks, self.log, self.tail) - self.y_mean) / self.y_scale
         keep = _usable(X, y)
         X, y = X[keep], y[keep]
         K = self._covariance(X, X)
@@ -111,10 +115,11 @@ class PeakModel:
     @classmethod
     def from_dict(cls, data: dict) -> PeakModel:
         scalars = ("target", "amplitude", "noise", "y_mean", "y_scale", "log", "floor")
+        data = {**data, "tail": tuple(data.get("tail", (0.0, 0.0)))}
         return cls(
             **{
                 k: v
-                if k in scalars
+                if k in scalars or k == "tail"
                 else np.asarray(v, dtype=float).reshape(
                     (-1, len(data["input_mean"])) if k == "train_inputs" else -1
                 )
@@ -208,15 +213,21 @@ LOG_PEAKS = frozenset({"body_acc"})
 LOCAL_MAX_LENGTH_SCALE = 5.0
 
 
-def near_front(target: str, broad: PeakModel | None, decisions: Array, peaks: Array) -> NearFront:
+def near_front(
+    target: str,
+    broad: PeakModel | None,
+    decisions: Array,
+    peaks: Array,
+    tail: tuple[float, float] = (0.0, 0.0),
+) -> NearFront:
     """``broad`` (None: the series model's maximum) with a local GP of ``target``'s peak fitted
     (hyperparameters by maximum likelihood, length scales at most
     :data:`LOCAL_MAX_LENGTH_SCALE`; on log(peak) for :data:`LOG_PEAKS`) on the refinement
-    rounds' ``decisions`` and ``peaks``. It predicts no peak below the smallest of those: a dip
-    between the rounds' points is the GP's, not the simulator's."""
+    rounds' ``decisions`` and ``peaks`` (their ``tail`` tamed). It predicts no peak below the
+    smallest of those: a dip between the rounds' points is the GP's, not the simulator's."""
     log = target in LOG_PEAKS
-    local = fit_peak_model(target, decisions, peaks, LOCAL_MAX_LENGTH_SCALE, log)
-    fitted = _usable(np.asarray(decisions, dtype=float), _fitted(peaks, log))
+    local = fit_peak_model(target, decisions, peaks, LOCAL_MAX_LENGTH_SCALE, log, tail)
+    fitted = _usable(np.asarray(decisions, dtype=float), _fitted(peaks, log, tail))
     local = replace(local, floor=float(np.asarray(peaks, dtype=float)[fitted].min()))
     K = local._covariance(local.train_inputs, local.train_inputs)
     K[np.diag_indices_from(K)] += local.noise + JITTER
@@ -234,9 +245,10 @@ def peak_kernel(d: int, max_length_scale: float = 1e5):
     return signal + WhiteKernel(1e-2, (1e-6, 1.0))
 
 
-def _fitted(peaks: Array, log: bool) -> Array:
-    """What a GP of these peaks is fitted on: the peaks, or their logarithm (NaN at or below 0)."""
-    y = np.asarray(peaks, dtype=float)
+def _fitted(peaks: Array, log: bool, tail: tuple[float, float] = (0.0, 0.0)) -> Array:
+    """What a GP of these peaks is fitted on: the peaks with their ``tail`` tamed
+    (:mod:`ftfof.data.tails`), or the logarithm of those (NaN at or below 0)."""
+    y = tame(peaks, *tail)
     if not log:
         return y
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -249,16 +261,22 @@ def _usable(X: Array, y: Array) -> NDArray[np.bool_]:
 
 
 def fit_peak_model(
-    target: str, decisions: Array, peaks: Array, max_length_scale: float = 1e5, log: bool = False
+    target: str,
+    decisions: Array,
+    peaks: Array,
+    max_length_scale: float = 1e5,
+    log: bool = False,
+    tail: tuple[float, float] = (0.0, 0.0),
 ) -> PeakModel:
-    """A GP of ``peaks`` (or, ``log``, of their logarithm) on ``decisions`` (rows with a finite,
-    and for ``log`` positive, peak), hyperparameters by maximum marginal likelihood from one
-    deterministic start (length scales 1 on standardised inputs)."""
+    """A GP of ``peaks`` (their ``tail`` tamed; ``log``: of the logarithm of those) on
+    ``decisions`` (rows with a finite, and for ``log`` positive, peak), hyperparameters by
+    maximum marginal likelihood from one deterministic start (length scales 1 on standardised
+    inputs)."""
     from sklearn.exceptions import ConvergenceWarning
     from sklearn.gaussian_process import GaussianProcessRegressor
 
     X = np.asarray(decisions, dtype=float)
-    y = _fitted(peaks, log)
+    y = _fitted(peaks, log, tail)
     keep = _usable(X, y)
     if keep.sum() < 3:
         raise ValueError(f"{keep.sum()} rows supply the {target} peak: a GP needs at least 3")
@@ -286,5 +304,6 @@ def fit_peak_model(
         train_inputs=np.empty((0, mean.size)),
         weights=np.empty(0),
         log=log,
+        tail=(float(tail[0]), float(tail[1])),
     )
     return like._on((X - mean) / scale, np.asarray(gp.alpha_, dtype=float))

@@ -118,9 +118,8 @@ class Surrogate:
                 f"{len(np.atleast_2d(decisions))} rows of control values for "
                 f"{len(position)} trajectories"
             )
-        y = self.model(self.features(position, velocity))
-        scale = self.normalization.target_scale
-        series = {n: y[..., self.targets.index(n)] * scale[self.targets.index(n)] for n in names}
+        y = self.normalization.from_model(self.model(self.features(position, velocity)))
+        series = {n: y[..., self.targets.index(n)] for n in names}
         for n in peaked:
             series[n] = with_peak(series[n], self.peaks[n](decisions, series[n].max(axis=-1)))
         return series

@@ -55,13 +55,9 @@ class TrainingData:
             x, y = dataset.arrays(self.table, split)
             out[split] = (
                 ((x - mean) / scale).astype(np.float32),
-                (y / np.asarray(self.target_scale)).astype(np.float32),
+                self.normalization.to_model(y).astype(np.float32),
             )
         return out
-
-    @property
-    def target_scale(self) -> list[float]:
-        return self.normalization.target_scale
 
     @property
     def trained(self) -> tuple[str, ...]:
@@ -78,7 +74,8 @@ class TrainingData:
         return self._arrays[split][0]
 
     def targets(self, split: str) -> np.ndarray:
-        """(n, N, K) normalised targets, NaN where a sample does not supply one."""
+        """(n, N, K) targets as the model fits them (tamed, scaled), NaN where a sample does not
+        supply one."""
         return self._arrays[split][1]
 
     def decisions(self, split: str) -> np.ndarray:
@@ -97,7 +94,7 @@ class TrainingData:
     def peaks(self, split: str, target: str) -> np.ndarray:
         """(n,) the maximum of one target's series, in its unit (NaN where not supplied)."""
         k = TARGETS.index(target)
-        return np.max(self.targets(split)[..., k], axis=-1) * self.target_scale[k]
+        return np.max(self.normalization.from_model(self.targets(split))[..., k], axis=-1)
 
 
 def write_dataset(directory: Path, table: pa.Table) -> None:

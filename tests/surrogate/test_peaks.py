@@ -10,6 +10,7 @@ import pytest
 from sklearn.gaussian_process import GaussianProcessRegressor
 from sklearn.gaussian_process.kernels import RBF, ConstantKernel, WhiteKernel
 
+from ftfof.data import tails
 from ftfof.surrogate.peaks import (
     LOCAL_MAX_LENGTH_SCALE,
     LOG_PEAKS,
@@ -199,7 +200,7 @@ def test_a_log_local_gp_cannot_be_searched_below_its_smallest_peak():
 
 
 def test_a_saved_model_from_before_log_peaks_loads_as_linear(model):
-    old = {k: v for k, v in model.as_dict().items() if k not in ("log", "floor")}
+    old = {k: v for k, v in model.as_dict().items() if k not in ("log", "floor", "tail")}
     again = peak_model_from_dict(old)
     assert not again.log and again.floor == 0.0
     X = np.random.default_rng(16).uniform(-2.0, 2.0, size=(7, len(model.input_mean)))
@@ -214,3 +215,24 @@ def test_a_log_model_refits_on_its_positive_peaks_only():
     again = model.refit(np.vstack([X, [[0.5, 0.5]]]), np.append(peaks, 0.0))  # a zero: no log
     assert again.train_inputs.shape == (40, 2)
     np.testing.assert_allclose(again(X), model(X))
+
+
+def test_a_tamed_gp_is_not_ruled_by_a_few_huge_peaks():
+    """The landing press: 5 N give or take 0.3 N, and two hard landings of 50-150 N. Fitted as
+    they are, the outliers set the GP's scale and it misses the bulk; tamed, it learns it."""
+    rng = np.random.default_rng(21)
+    X = rng.uniform(-1.0, 1.0, size=(150, 3))
+    peaks = 5.0 + 0.3 * np.sin(2.0 * X[:, 0])
+    hard = rng.choice(120, 2, replace=False)
+    peaks[hard] = rng.uniform(50.0, 150.0, 2)
+    bulk = np.arange(120, 150)
+    tail = tails.fence(peaks[:120], 3.0)
+    raw = fit_peak_model("Fp", X[:120], peaks[:120])
+    tamed = fit_peak_model("Fp", X[:120], peaks[:120], tail=tail)
+    error = np.median(np.abs(tamed(X[bulk]) - peaks[bulk]))
+    assert error < 0.1 and error < 0.2 * np.median(np.abs(raw(X[bulk]) - peaks[bulk]))
+    assert tamed(X[hard]).min() > tail[0]  # a hard landing still reads as one, past the fence
+    again = peak_model_from_dict(json.loads(json.dumps(tamed.as_dict())))
+    assert again.tail == tamed.tail
+    np.testing.assert_array_equal(again(X[bulk]), tamed(X[bulk]))
+    np.testing.assert_allclose(tamed.refit(X[:120], peaks[:120])(X[bulk]), tamed(X[bulk]))

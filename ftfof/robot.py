@@ -8,7 +8,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ftfof.config import Feasibility, Protocol, Robot, Surface
-from ftfof.errors import ParamsError
+from ftfof.errors import InfeasibleRobotError, ParamsError
+from ftfof.kinematics.legs import build_leg, within_limits
 from ftfof.kinematics.limits import RobotLimits, resolve_limits
 from ftfof.rules import FootRules, foot_rules
 from ftfof.trajectory.bezier import DECISION_NAMES
@@ -35,13 +36,26 @@ def robot_context(
     """Resolve Ppl/Vpl, build the policy and the rules; raises InfeasibleRobotError before any
     output."""
     limits = resolve_limits(robot, name, seed=limits_seed)
-    return RobotContext(
-        name,
-        robot,
-        limits,
-        ConstraintPolicy(robot, limits, feasibility, name),
-        foot_rules(robot, surface, protocol),
-    )
+    policy = ConstraintPolicy(robot, limits, feasibility, name)
+    _stands_at_both_ends(name, robot, policy)
+    return RobotContext(name, robot, limits, policy, foot_rules(robot, surface, protocol))
+
+
+def _stands_at_both_ends(name: str, robot: Robot, policy: ConstraintPolicy) -> None:
+    """Every trajectory starts at P0 and lands at P15: a leg that cannot hold the foot at either
+    within its joint ranges can run none, which the joint rule would find only after the
+    sampler's whole draw budget (minutes)."""
+    leg = build_leg(robot.leg)
+    for label, point in (("P0", policy.p0), ("P15", policy.p15)):
+        theta = leg.inverse(point)
+        if not (np.all(np.isfinite(theta)) and within_limits(theta, leg.joint_limits)):
+            angles = ", ".join(f"{a:.2f}" for a in theta)
+            raise InfeasibleRobotError(
+                f"robots.{name}.leg",
+                f"the leg cannot hold the foot at {label} within its joint ranges (joints at "
+                f"[{angles}] rad, ranges {leg.joint_limits.tolist()}): no trajectory can start "
+                "or land there",
+            )
 
 
 def parse_points(text: str, unit: str) -> np.ndarray:

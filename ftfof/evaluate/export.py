@@ -12,7 +12,7 @@ from numpy.typing import NDArray
 
 from ftfof.config.stages import EXPORT_MAX_RATE_HZ
 from ftfof.errors import ParamsError
-from ftfof.kinematics.legs import Leg, build_leg, within_limits
+from ftfof.kinematics.legs import Leg, build_leg, joint_rates, within_limits
 from ftfof.robot import RobotContext
 from ftfof.trajectory.bezier import DECISION_NAMES
 from ftfof.trajectory.piecewise import Sampled
@@ -103,21 +103,10 @@ def controller_trajectory(
         raise ValueError(
             f"the leg cannot reach the foot point ({x:.2f}, {z:.2f}) mm at t = {t[i]:.4f} s"
         )
-    rates = _joint_rates(leg, theta, velocity)
+    rates = joint_rates(leg, theta, velocity)
     table = np.column_stack([t, position, velocity, theta, rates])
     inside = bool(np.all(within_limits(theta, leg.joint_limits)))
     return ControllerTrajectory(table, inside, np.abs(rates).max(axis=0))
-
-
-def _joint_rates(leg: Leg, theta: Array, velocity: Array) -> Array:
-    """dq (n, 3) from the foot velocity: dq = S r with S the sagittal completion, (J S) r = v."""
-    n = theta.shape[0]
-    S = np.stack(
-        [leg.sagittal_rates(theta, np.broadcast_to(e, (n, 2))) for e in np.eye(2)], axis=-1
-    )
-    A = np.einsum("nij,njk->nik", leg.jacobian(theta), S)
-    free = np.linalg.solve(A, velocity[..., None])[..., 0]
-    return np.einsum("nij,nj->ni", S, free)
 
 
 def limit_breaches(out: ControllerTrajectory, leg: Leg) -> list[str]:

@@ -216,3 +216,40 @@ def build_leg(settings: config.PlanarLeg | config.SpatialLeg) -> PlanarLeg | Spa
 def within_limits(theta: Array, limits: Array, tol: float = 1e-9) -> NDArray[np.bool_]:
     """True where every joint of ``theta`` (..., 3) lies inside its range."""
     return np.all((theta >= limits[:, 0] - tol) & (theta <= limits[:, 1] + tol), axis=-1)
+
+
+def joint_rates(leg: Leg, theta: Array, velocity: Array) -> Array:
+    """dq (..., 3) of the foot's ``velocity`` (..., 2) at ``theta`` (..., 3): dq = S r with S
+    the sagittal completion of the two free joints' rates r, and (J S) r = v exactly."""
+    lead = theta.shape[:-1]
+    S = np.stack(
+        [leg.sagittal_rates(theta, np.broadcast_to(e, (*lead, 2))) for e in np.eye(2)], axis=-1
+    )
+    A = np.einsum("...ij,...jk->...ik", leg.jacobian(theta), S)
+    det = A[..., 0, 0] * A[..., 1, 1] - A[..., 0, 1] * A[..., 1, 0]
+    vx, vz = velocity[..., 0], velocity[..., 1]
+    with np.errstate(invalid="ignore", divide="ignore"):  # a singular pose: inf, not an error
+        free = np.stack(
+            [
+                (A[..., 1, 1] * vx - A[..., 0, 1] * vz) / det,
+                (A[..., 0, 0] * vz - A[..., 1, 0] * vx) / det,
+            ],
+            axis=-1,
+        )
+    return np.einsum("...ij,...j->...i", S, free)
+
+
+def joint_excess(leg: Leg, position: Array, velocity: Array) -> Array:
+    """How far a foot path (..., n_t, 2) and its velocity take the leg past its joints, per
+    path (...): the largest of each joint's excess over its range (rad) and its rate's excess
+    over its speed limit as a fraction of that limit; > 0 where the leg cannot run the path, 1
+    where it cannot reach a point at all. The paper's Ppl and Vpl bound the foot's box and
+    speed; this is the leg itself, which a controller export checks point by point."""
+    theta = leg.inverse(position)
+    lo, hi = leg.joint_limits[:, 0], leg.joint_limits[:, 1]
+    rates = joint_rates(leg, np.where(np.isfinite(theta), theta, 0.0), velocity)
+    outside = np.maximum(lo - theta, theta - hi)
+    fast = np.abs(rates) / leg.speed_limits - 1.0
+    worst = np.maximum(outside, fast).max(axis=-1)
+    worst = np.where(np.all(np.isfinite(theta), axis=-1), worst, 1.0)
+    return np.where(np.isfinite(worst), worst, 1.0).max(axis=-1)

@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 import ftfof.config as config
+from ftfof.kinematics.legs import build_leg, joint_excess
 from ftfof.kinematics.limits import RobotLimits
 from ftfof.objectives import fs6_bending
 from ftfof.trajectory.feasibility import Bound, Constraint, Population
@@ -104,9 +105,13 @@ def _sampled(
     t: Array,
     p0: Array,
 ) -> list[Constraint]:
-    """Rules on the trajectory sampled on the grid ``t``: the limits, then the path's shape."""
+    """Rules on the trajectory sampled on the grid ``t``: the limits, the path's shape, then the
+    leg's own joints."""
     rules = _limit_rules(robot, limits, feasibility, t, p0) + _path_rules(robot, feasibility, t)
-    return [Constraint(kind, name, fn, sampled=True) for kind, name, fn in rules]
+    joints = Constraint(
+        "joint_limit", "the leg's joints within range and speed", _joints(robot), True, last=True
+    )
+    return [Constraint(kind, name, fn, sampled=True) for kind, name, fn in rules] + [joints]
 
 
 def _limit_rules(
@@ -141,6 +146,14 @@ def _limit_rules(
         ("velocity_limit", "|vx| <= Vplx", extreme("speed_max", 0, 1, vplx)),
         ("velocity_limit", "|vz| <= Vplz", extreme("speed_max", 1, 1, vplz)),
     ]
+
+
+def _joints(robot: config.Robot) -> Callable[[Population], Array]:
+    """The leg's own joint ranges and speeds on the sampled path (:func:`joint_excess`): Ppl and
+    Vpl bound the foot's box and speed but not every joint everywhere in it, and an optimum the
+    search kept broke dq2 by 0.5 % in the controller export."""
+    leg = build_leg(robot.leg)
+    return lambda c: joint_excess(leg, c.samples.position, c.samples.velocity)
 
 
 def _path_rules(robot: config.Robot, feasibility: config.Feasibility, t: Array) -> list[Rule]:

@@ -13,10 +13,11 @@ from numpy.typing import NDArray
 from ftfof.trajectory.bezier import DECISION_NAMES, Samples
 
 Array = NDArray[np.float64]
-# the five constraint kinds of the paper, plus the bending measure fs6
+# the five constraint kinds of the paper, the leg's own joint limits, and the bending measure fs6
 KINDS = (
     "position_limit",
     "velocity_limit",
+    "joint_limit",
     "min_detachment",
     "transition",
     "shape",
@@ -42,6 +43,8 @@ class Constraint:
     violation: Callable[[Population], Array]
     sampled: bool = False  # needs the sampled trajectory (costly) rather than control points
     box: bool = False  # a plain bound on one free variable (an optimiser's box enforces it)
+    last: bool = False  # costlier than the rest and seldom decisive: a screen runs it only on
+    # rows every other rule passes
 
 
 @dataclass

@@ -88,18 +88,26 @@ class ConstraintPolicy(DecisionSpace):
 
     def screen(self, X: Array, chunk: int = 8192) -> FeasibilityReport:
         """Like :meth:`check`, but the sampled-trajectory rules run only on rows that pass the
-        control-point rules (others get NaN there): cheap enough for millions of draws."""
+        control-point rules, and the ``last`` rules only on rows every other rule passes
+        (others get NaN there): cheap enough for millions of draws."""
         X = np.atleast_2d(np.asarray(X, dtype=float))
         ctx = Population(X, self.sample)
         cheap = [j for j, c in enumerate(self.constraints) if not c.sampled]
         V = np.full((len(X), len(self.constraints)), np.nan)
         V[:, cheap] = np.column_stack([self.constraints[j].violation(ctx) for j in cheap])
         survivors = np.flatnonzero(~np.any(V[:, cheap] > 0, axis=1))
-        costly = [j for j, c in enumerate(self.constraints) if c.sampled]
+        costly = [j for j, c in enumerate(self.constraints) if c.sampled and not c.last]
+        last = [j for j, c in enumerate(self.constraints) if c.last]
         for start in range(0, len(survivors), chunk):
             rows = survivors[start : start + chunk]
             sub = Population(X[rows], self.sample)
             V[np.ix_(rows, costly)] = np.column_stack(
                 [self.constraints[j].violation(sub) for j in costly]
             )
+            rows = rows[~np.any(V[np.ix_(rows, costly)] > 0, axis=1)]
+            if last and len(rows):
+                sub = Population(X[rows], self.sample)
+                V[np.ix_(rows, last)] = np.column_stack(
+                    [self.constraints[j].violation(sub) for j in last]
+                )
         return report(self.constraints, V)

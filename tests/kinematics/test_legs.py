@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from ftfof.kinematics.legs import build_leg, within_limits
+from ftfof.kinematics.legs import build_leg, joint_excess, joint_rates, within_limits
 
 
 @pytest.fixture(params=["mst_m3f", "mst_q"])
@@ -85,3 +85,35 @@ def test_spatial_inverse_agrees_with_eps_bezier_eq6_as_printed(params):
     ours = leg.inverse3(p3)
     np.testing.assert_allclose(ours[:, 2], t3, atol=1e-9)
     np.testing.assert_allclose(ours[:, 1], t2, atol=1e-9)
+
+
+def _path_through(leg, theta, rates):
+    """Foot positions and velocities (1, n, 2) of the joint motion ``theta``, ``rates`` (n, 3)."""
+    points = leg.forward(theta)
+    velocity = np.einsum("nij,nj->ni", leg.jacobian(theta), rates)
+    return points[None], velocity[None]
+
+
+def test_joint_rates_invert_the_jacobian_on_the_sagittal_motion(leg):
+    rng = np.random.default_rng(1)
+    theta = _random_angles(leg, 500, rng)
+    rates = leg.sagittal_rates(theta, rng.normal(size=(len(theta), 2)))
+    velocity = np.einsum("nij,nj->ni", leg.jacobian(theta), rates)
+    np.testing.assert_allclose(joint_rates(leg, theta, velocity), rates, atol=1e-9)
+
+
+def test_joint_excess_is_the_worst_joint_speed_over_its_limit_and_one_where_unreachable(leg):
+    rng = np.random.default_rng(2)
+    inside = _random_angles(leg, 4000, rng)
+    same_branch = np.all(np.abs(leg.inverse(leg.forward(inside)) - inside) < 1e-9, axis=1)
+    inside = inside[same_branch & within_limits(inside, leg.joint_limits, tol=-0.05)][:20]
+    free = np.zeros((len(inside), 2))
+    free[:, 0] = 0.5 * leg.speed_limits[leg.free_joints[0]]
+    rates = leg.sagittal_rates(inside, free)
+    slow = rates / max(1.0, float(np.max(np.abs(rates) / leg.speed_limits)) / 0.5)
+    assert joint_excess(leg, *_path_through(leg, inside, slow))[0] < 0  # within every limit
+    ratio = float(np.max(np.abs(slow) / leg.speed_limits))
+    fast = slow * (1.2 / ratio)  # the fastest joint 20 % past its limit
+    assert joint_excess(leg, *_path_through(leg, inside, fast))[0] == pytest.approx(0.2, rel=1e-6)
+    far = np.full((1, 3, 2), 10.0)  # out of reach
+    assert joint_excess(leg, far, np.zeros_like(far))[0] == 1.0

@@ -40,17 +40,17 @@ def test_a_robot_without_a_climber_cannot_climb(tmp_path, params_dict):
     assert result.exit_code == 2 and "has no climber block" in result.stderr
 
 
-def test_a_leg_that_cannot_reach_its_stance_stroke_is_refused(tmp_path, params_dict):
+def test_a_leg_that_cannot_stand_at_p0_is_refused_before_anything_runs(tmp_path, params_dict):
     """MST-Q's hip 20 mm ahead of P0 (its preset's first estimate) puts P0 at a hip pitch of
-    -1.32 rad, past its -1.0 limit: the swing's rules are the policy's, the stance stroke back
-    along the wall is the climb's."""
+    -1.32 rad, past its -1.0 limit: no trajectory can start there, which the robot's context
+    says at once (the joint rule alone would have drawn the sampler's whole budget)."""
     params_dict["robot"] = "mst_q"
     params_dict["robots"]["mst_q"]["leg"]["hip"]["x"] = 0.02
     params = write_params(tmp_path / "params.yaml", params_dict)
     result = runner.invoke(
         app, cli_args("climb", params, baseline="eps_bezier", out_dir=tmp_path / "o")
     )
-    assert result.exit_code == 2 and "stance stroke leaves its joint range" in result.stderr
+    assert result.exit_code == 2 and "cannot hold the foot at P0" in result.stderr
     assert not (tmp_path / "o").exists()
 
 

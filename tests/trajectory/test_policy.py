@@ -35,6 +35,8 @@ VIOLATORS = {
     "transition": _mm([15.0, 28.5, 48.5, 95.5, 122.1, 133.0, 42.1, 39.6, 50.8, 20.2, 34.3, 9.8]),
     "shape": _with(P4z=30.0),  # P4 above P5: outside the upper triangle
     "bending": _mm([3.1, 6.7, 52.8, 110.2, 132.4, 137.9, 15.8, 25.4, 42.4, 27.6, 16.6, 12.0]),
+    # inside the foot's box and speed limits, its landing outruns the knee by 11 %
+    "joint_limit": _mm([0.3, 3.7, 10.5, 156.3, 154.9, 142.8, 43.3, 38.8, 44.5, 26.8, 40.3, 56.8]),
 }
 
 
@@ -43,7 +45,10 @@ def test_each_constraint_kind_rejects_its_violator_and_names_itself(m3f, kind):
     report = m3f.policy.check(VIOLATORS[kind])
     assert not report.feasible[0]
     failed = report.failed(0)
-    assert {f.split(":")[0] for f in failed} == {kind}, failed
+    kinds = {f.split(":")[0] for f in failed}
+    if kind == "bending":  # a hairpin also outruns the leg's joints
+        kinds.discard("joint_limit")
+    assert kinds == {kind}, failed
 
 
 def test_velocity_limit_rejects_a_too_fast_trajectory(raw_params):

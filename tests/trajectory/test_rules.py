@@ -113,11 +113,12 @@ def test_hairpin_fails_the_bend_rule_at_any_density(raw_params, n_t):
 
 def test_md_path_rejects_a_crawl_by_name_and_can_be_switched_off(raw_params):
     on = _policy(raw_params)
-    failed = on.check(CRAWLER).failed(0)
-    assert [f.split(" (by")[0] for f in failed] == ["min_detachment: md_path"], failed
+    failed = [f.split(" (by")[0] for f in on.check(CRAWLER).failed(0)]
+    # the crawl also outruns the leg's joints: that rule is the leg's, not md_path's
+    assert [f for f in failed if not f.startswith("joint_limit")] == ["min_detachment: md_path"]
     off = _policy(raw_params, md_path=False)
     assert "md_path" not in {c.name for c in off.constraints}
-    assert off.check(CRAWLER).feasible[0]
+    assert all(f.startswith("joint_limit") for f in off.check(CRAWLER).failed(0))
 
 
 def test_fine_recheck_names_md_path(raw_params):

@@ -62,3 +62,17 @@ def test_shaped_draws_pass_every_control_point_rule(robot, request):
     box = policy.expand(policy.lower + U * (policy.upper - policy.lower))
     kept = policy.check(box, constraints=cheap).feasible.mean()
     assert abs(weight.mean() - kept) < 4 * math.sqrt(kept * (1 - kept) / len(U))
+
+
+@pytest.mark.parametrize("robot", ["m3f", "mst_q"])
+def test_every_accepted_row_is_one_the_leg_runs_at_1_khz(robot, request):
+    """The controller export's joint check (each joint's range and speed, point by point) passes
+    every sampled row: the foot's box and speed limits alone let about one row in eight of
+    MST-M3F's outrun its knee or ankle."""
+    from ftfof.evaluate.export import runnable
+    from ftfof.trajectory.baselines import BezierTrajectory
+
+    ctx = request.getfixturevalue(robot)
+    for X in sample_feasible(ctx.policy, 30, seed=5).X:
+        out = runnable(ctx, "row", BezierTrajectory(ctx.policy, X), None, 1000.0)
+        assert out.within_joint_limits  # runnable refuses a row that outruns a joint

@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 Array = NDArray[np.float64]
+MAX_EXCESS = 30.0  # compressed spreads above the fence that untame still maps exactly
 
 
 def fence(peaks: Array, k: float) -> tuple[float, float]:
@@ -40,8 +41,10 @@ def tame(y: Array, upper: float, spread: float) -> Array:
 
 
 def untame(g: Array, upper: float, spread: float) -> Array:
-    """The inverse of :func:`tame`."""
-    return _mapped(g, upper, spread, np.expm1)
+    """The inverse of :func:`tame`. A model's prediction far past anything it was fitted on maps
+    to a large finite value, not an overflow: its compressed excess is capped at MAX_EXCESS
+    (e^30 spreads above the fence; the optimiser refused an infinite objective)."""
+    return _mapped(g, upper, spread, lambda x: np.expm1(np.minimum(x, MAX_EXCESS)))
 
 
 def _mapped(values: Array, upper: float, spread: float, excess: Callable[[Array], Array]) -> Array:

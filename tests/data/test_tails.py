@@ -49,3 +49,12 @@ def test_a_normalisation_saved_before_tails_loads_untamed():
     y = np.array([[1.0, 100.0]])
     np.testing.assert_array_equal(norm.to_model(y), y / [2.0, 4.0])
     np.testing.assert_array_equal(norm.from_model(norm.to_model(y)), y)
+
+
+def test_a_prediction_far_past_the_fence_maps_back_finite_and_in_order():
+    from ftfof.data.tails import MAX_EXCESS, untame
+
+    g = np.array([2.0, 2.0 + MAX_EXCESS, 2.0 + 1e3, 2.0 + 1e6, np.nan])
+    out = untame(g, upper=2.0, spread=0.5)
+    assert np.isfinite(out[:4]).all() and np.isnan(out[4])
+    assert np.all(np.diff(out[:2]) > 0) and out[2] == out[1] == out[3]

@@ -155,12 +155,16 @@ class Normalization:
         """The inverse of :meth:`to_model`: (..., K) model outputs -> targets in their units."""
         return self._each(np.asarray(y, dtype=float) * np.asarray(self.target_scale), tails.untame)
 
+    def target_from_model(self, y: Array, k: int) -> Array:
+        """Target ``k`` alone of :meth:`from_model`: ``y`` its model outputs, any shape."""
+        return tails.untame(np.asarray(y, dtype=float) * self.target_scale[k], *self.tail(k))
+
     def _each(self, values: Array, mapping: Callable[[Array, float, float], Array]) -> Array:
-        """``values`` (..., K) with each target's tail ``mapping`` applied, in a new array."""
+        """``values`` (..., K) with each target's tail ``mapping`` applied (a target without a
+        tail, spread 0, is copied as it is), in a new array."""
         out = np.array(values, dtype=float)
         for k in range(out.shape[-1]):
-            if self.tail(k)[1] > 0:
-                out[..., k] = mapping(out[..., k], *self.tail(k))
+            out[..., k] = mapping(out[..., k], *self.tail(k))
         return out
 
     def to_json(self) -> str:

@@ -250,6 +250,5 @@ def joint_excess(leg: Leg, position: Array, velocity: Array) -> Array:
     rates = joint_rates(leg, np.where(np.isfinite(theta), theta, 0.0), velocity)
     outside = np.maximum(lo - theta, theta - hi)
     fast = np.abs(rates) / leg.speed_limits - 1.0
-    worst = np.maximum(outside, fast).max(axis=-1)
-    worst = np.where(np.all(np.isfinite(theta), axis=-1), worst, 1.0)
+    worst = np.maximum(outside, fast).max(axis=-1)  # NaN off the reach, inf at a singular pose
     return np.where(np.isfinite(worst), worst, 1.0).max(axis=-1)

@@ -114,12 +114,12 @@ class PeakModel:
 
     @classmethod
     def from_dict(cls, data: dict) -> PeakModel:
-        scalars = ("target", "amplitude", "noise", "y_mean", "y_scale", "log", "floor")
+        scalars = ("target", "amplitude", "noise", "y_mean", "y_scale", "log", "floor", "tail")
         data = {**data, "tail": tuple(data.get("tail", (0.0, 0.0)))}
         return cls(
             **{
                 k: v
-                if k in scalars or k == "tail"
+                if k in scalars
                 else np.asarray(v, dtype=float).reshape(
                     (-1, len(data["input_mean"])) if k == "train_inputs" else -1
                 )

@@ -93,8 +93,8 @@ class TrainingData:
 
     def peaks(self, split: str, target: str) -> np.ndarray:
         """(n,) the maximum of one target's series, in its unit (NaN where not supplied)."""
-        k = TARGETS.index(target)
-        return np.max(self.normalization.from_model(self.targets(split))[..., k], axis=-1)
+        k = TARGETS.index(target)  # the tail's map is monotone: it maps the maximum
+        return self.normalization.target_from_model(np.max(self.targets(split)[..., k], axis=-1), k)
 
 
 def write_dataset(directory: Path, table: pa.Table) -> None:

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ftfof.config import Feasibility, Protocol, Robot, Surface
+from ftfof.demand import proof_pull
 from ftfof.errors import InfeasibleRobotError, ParamsError
 from ftfof.kinematics.legs import build_leg, within_limits
 from ftfof.kinematics.limits import RobotLimits, resolve_limits
@@ -38,7 +39,21 @@ def robot_context(
     limits = resolve_limits(robot, name, seed=limits_seed)
     policy = ConstraintPolicy(robot, limits, feasibility, name)
     _stands_at_both_ends(name, robot, policy)
+    _proof_within_the_pad(name, robot, surface)
     return RobotContext(name, robot, limits, policy, foot_rules(robot, surface, protocol))
+
+
+def _proof_within_the_pad(name: str, robot: Robot, surface: Surface) -> None:
+    """F_proof above the pad's whole strength sigma A (every bond fully preloaded, at rest) is
+    a pull no landing can hold: the rule would refuse every trajectory after a whole search."""
+    force = proof_pull(robot)
+    strength = surface.strength * robot.pad_area
+    if force is not None and force > strength:
+        raise InfeasibleRobotError(
+            f"robots.{name}.proof.safety_factor",
+            f"F_proof {force:.2f} N is above the pad's strength on this surface, sigma A ="
+            f" {strength:.2f} N, which no landing can hold: lower the safety factor",
+        )
 
 
 def _stands_at_both_ends(name: str, robot: Robot, policy: ConstraintPolicy) -> None:

@@ -8,6 +8,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ftfof.config import Protocol, Robot, Surface
+from ftfof.demand import proof_pull
 from ftfof.sim.film import FilmLimit, film_limit
 
 
@@ -24,6 +25,9 @@ class FootRules:
     retouch_allowed: float | None  # bonds the pad may re-form before the landing (None: any)
     landing_hold: float  # how long the protocol holds the landing press
     body_acc_limit: float | None  # the body's peak acceleration over the step
+    # F_proof the landed pad must hold (ftfof/sim/proof.py); None: not required (no proof pull,
+    # or the robot's proof.refuse off)
+    proof_pull: float | None = None
 
 
 def foot_rules(robot: Robot, surface: Surface, protocol: Protocol) -> FootRules:
@@ -38,4 +42,5 @@ def foot_rules(robot: Robot, surface: Surface, protocol: Protocol) -> FootRules:
         retouch_allowed=robot.retouch_allowed,
         landing_hold=protocol.landing_hold,
         body_acc_limit=robot.body_acc_limit,
+        proof_pull=proof_pull(robot) if robot.proof is not None and robot.proof.refuse else None,
     )

@@ -18,6 +18,7 @@ RANKS = {
     "ftfof.version": 0,
     "ftfof.digests": 1,
     "ftfof.objectives": 1,
+    "ftfof.demand": 1,
     "ftfof.kinematics": 1,
     "ftfof.identify": 1,
     "ftfof.trajectory": 2,

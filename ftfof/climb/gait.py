@@ -23,11 +23,11 @@ from functools import cached_property
 import numpy as np
 from numpy.typing import NDArray
 
+from ftfof.demand import LEGS
 from ftfof.trajectory.blend import min_jerk
 from ftfof.trajectory.piecewise import PiecewiseQuintic
 
 Array = NDArray[np.float64]
-LEGS = 4
 
 
 @dataclass(frozen=True)

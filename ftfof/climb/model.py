@@ -47,9 +47,10 @@ import ftfof.config as config
 from ftfof.climb.gait import LEGS, Gait
 from ftfof.climb.legs import SagittalChain
 from ftfof.climb.surface import PadSwitch, SurfaceSwitch
+from ftfof.demand import leg_masses
 from ftfof.sim.bonds import BondLaw
 from ftfof.sim.foot import ankle_joint_law, free_span_start, grip_of
-from ftfof.sim.joint_leg import ATTACH_DAMPING, ATTACH_STIFFNESS, SERVO_LINK_MASS, tree_node
+from ftfof.sim.joint_leg import ATTACH_DAMPING, ATTACH_STIFFNESS, tree_node
 from ftfof.sim.pad import FilmGrid, add_bonds, add_film, film_grid
 from ftfof.sim.padstate import PadParts
 from ftfof.trajectory.piecewise import PiecewiseQuintic
@@ -99,28 +100,6 @@ class Climber:
     @property
     def hips(self) -> np.ndarray:
         return self.gait.hips
-
-
-def leg_masses(robot: config.Robot) -> tuple[float, float, float]:
-    """Thigh, shank and ankle flange of each leg, kg."""
-    m = robot.platform.link_mass
-    return m, m, SERVO_LINK_MASS
-
-
-def robot_mass(robot: config.Robot) -> float:
-    """The climbing robot's whole mass: trunk, four legs, four feet (films are grams)."""
-    assert robot.climber is not None
-    return robot.climber.trunk_mass + LEGS * (sum(leg_masses(robot)) + robot.platform.foot.mass)
-
-
-def fore_foot_demand(robot: config.Robot) -> float:
-    """The pull a fore stance foot holds while the other fore foot presses its landing, N:
-    a + m g h / L. On a wall the feet's normal forces sum to zero, so a fore landing's press a
-    pulls on its partner, and the trunk's weight m g, its hips h off the wall, tips the robot
-    about its hind feet L below (decision 0019)."""
-    assert robot.climber is not None
-    h = robot.leg.hip.z
-    return robot.pre_pressure + robot_mass(robot) * config.GRAVITY * h / robot.climber.hip_spacing
 
 
 def build(spec: ClimbSpec, chain: SagittalChain, gait: Gait, law: BondLaw) -> Climber:

@@ -17,7 +17,7 @@ from ftfof.climb.gait import LEGS, Gait
 from ftfof.climb.model import Climber
 from ftfof.config import Sensor
 from ftfof.sim.model import in_series, pad_stiffnesses
-from ftfof.sim.prestep import press_integral
+from ftfof.sim.press import press_integral
 from ftfof.trajectory.blend import min_jerk
 
 Array = NDArray[np.float64]

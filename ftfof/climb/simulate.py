@@ -23,7 +23,8 @@ from ftfof.climb.control.state import Pads, SlipEstimate
 from ftfof.climb.gait import LEGS, Gait
 from ftfof.climb.legs import SagittalChain, sagittal_chain
 from ftfof.climb.loop import ClimbLoop, channel_slices
-from ftfof.climb.model import Climber, ClimbSpec, build, robot_mass
+from ftfof.climb.model import Climber, ClimbSpec, build
+from ftfof.demand import robot_mass
 from ftfof.sim.bonds import BondLaw
 from ftfof.sim.settings import solver_settings
 from ftfof.sim.slip import adhesion_truth

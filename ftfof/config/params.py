@@ -7,7 +7,13 @@ from pydantic import (
 )
 
 from ftfof.config.common import Strict
-from ftfof.config.robot import SHEAR_SAFETY_FACTOR, Robot, Surface, min_shear_capacity_ratio
+from ftfof.config.robot import (
+    SHEAR_SAFETY_FACTOR,
+    STANCE_FEET,
+    Robot,
+    Surface,
+    min_shear_capacity_ratio,
+)
 from ftfof.config.stages import (
     Acquire,
     Base,
@@ -133,6 +139,21 @@ class Params(Strict):
                 f" ratio at which three feet of robot {self.robot!r}, each pressed with its"
                 " pre-pressure, hold its weight on a vertical wall with safety factor"
                 f" {SHEAR_SAFETY_FACTOR:g}"
+            )
+        return self
+
+    @model_validator(mode="after")
+    def _the_proof_hold_fits_the_stance(self) -> Params:
+        robot = self.selected_robot
+        if robot.proof is None:
+            return self
+        stance = STANCE_FEET * robot.timing.T3
+        hold = self.platform.protocol.proof_hold
+        if hold > stance:
+            raise ValueError(
+                f"platform.protocol.proof_hold: {hold:g} s is longer than robot {self.robot!r}'s"
+                f" stance, {stance:g} s (its other three feet's swings), the longest a landed"
+                " pad is pulled before it lifts again"
             )
         return self
 

@@ -272,6 +272,17 @@ class Climber(Strict):
     source: Annotated[str, Field(min_length=10)]  # where the estimates come from
 
 
+class Proof(Strict):
+    """The proof pull (issue 53): after the landing hold the platform pulls the landed pad at its
+    ankle to F_proof, the robot's fore stance demand a + m g h / L times ``safety_factor``
+    (:func:`ftfof.demand.proof_pull`); a landing whose pad lets 10 % go first is refused."""
+
+    safety_factor: PositiveFloat
+    # whether a landing that does not hold F_proof is refused wherever the robot's rules apply
+    # (False: the pull is measured and reported only)
+    refuse: bool = True
+
+
 class Robot(Strict):
     """Everything that describes one robot's leg and foot for the pipeline."""
 
@@ -306,6 +317,8 @@ class Robot(Strict):
     reference: Baseline | None = None
     # the whole robot on the wall, for `ftfof climb` and evaluate's climbs; None: it cannot climb
     climber: Climber | None = None
+    # the landed pad's proof pull; None: no proof pull. It needs a climber (the demand is its)
+    proof: Proof | None = None
 
     @property
     def ankle_rest_angle(self) -> float:
@@ -319,6 +332,15 @@ class Robot(Strict):
     def pad_area(self) -> float:
         """The pad's area on the wall, m^2: its length times the film's width."""
         return self.foot.pad_length * self.platform.film.width
+
+    @model_validator(mode="after")
+    def _a_proof_pull_needs_a_climber(self) -> Robot:
+        if self.proof is not None and self.climber is None:
+            raise ValueError(
+                "proof: F_proof is the climbing robot's fore stance demand a + m g h / L, and this"
+                " robot has no climber to take m and L from (add one, or set proof: null)"
+            )
+        return self
 
     @model_validator(mode="after")
     def _film_survives_its_fc(self) -> Robot:

@@ -37,6 +37,10 @@ class Protocol(Strict):
     landing_hold: PositiveFloat  # s after the trajectory ends
     switch_height: PositiveFloat  # photoelectric switch above the plate, m
     carriage_time: PositiveFloat  # linear module move, s
+    # the proof pull after the landing hold (robots' ``proof``): the press loop moves the sensor
+    # from the held press to the pull over ``proof_ramp`` and holds it ``proof_hold``
+    proof_ramp: PositiveFloat = 0.2  # s
+    proof_hold: PositiveFloat = 0.5  # s
 
 
 class Platform(Strict):
@@ -48,7 +52,7 @@ class Platform(Strict):
 # order: before the trajectory, the settle, the press ramp and its hold; in the trajectory, the
 # flight clear of the plate (no bond, from the switch + 70 ms); after it, the landing hold from
 # its 50th ms on
-LongPhase = Literal["settle", "press", "press_hold", "flight", "landing_hold"]
+LongPhase = Literal["settle", "press", "press_hold", "flight", "landing_hold", "proof_hold"]
 LONG_PHASES: tuple[LongPhase, ...] = get_args(LongPhase)
 
 

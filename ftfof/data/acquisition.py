@@ -33,6 +33,10 @@ SCALARS = (
     ("max_clearance", "m", "highest the whole pad rose above the wall: max film_clearance"),
     ("switch_time", "s", "photoelectric switch: all bonds broken, pad above the switch"),
     ("bonds_at_end", "", "bonds intact at the end of the hold"),
+    ("rebond_fraction", "", "bonded share of the pad's area when the landing hold ends"),
+    ("proof_pull", "N", "F_proof pulled after the landing hold (NaN: no proof pull)"),
+    ("held_pull", "N", "largest pull borne before a tenth of the pad let go, at most F_proof"),
+    ("proof_held", "", "1 if the landed pad held F_proof through the proof hold, else 0"),
     ("steps", "", "solver steps"),
     ("retries", "", "1 if the solver needed a second, more careful attempt"),
 )

@@ -1,7 +1,8 @@
-"""Could a real foot run this simulated step? The four rules that the simulator check refuses a
+"""Could a real foot run this simulated step? The rules that the simulator check refuses a
 trajectory by and that the report judges the front by, in one place: the pad lets go cleanly
 (:mod:`ftfof.data.release`), the film is not bent below its limit, the foot lands pressing as it
-should (:mod:`ftfof.data.landing`) and the body is not shaken past the robot's limit
+should (:mod:`ftfof.data.landing`), the landed pad holds the proof pull where the robot asks it
+to (:mod:`ftfof.sim.proof`) and the body is not shaken past the robot's limit
 (:mod:`ftfof.data.shake`). A value the simulation did not give (NaN) breaks its rule.
 """
 
@@ -27,6 +28,7 @@ class Faults:
     release: str
     film: str
     landing: str
+    hold: str
     shake: str
     held_press: float
 
@@ -36,7 +38,7 @@ class Faults:
 
     @property
     def first(self) -> str:
-        return self.release or self.film or self.landing or self.shake
+        return self.release or self.film or self.landing or self.hold or self.shake
 
 
 def foot_faults(
@@ -47,7 +49,8 @@ def foot_faults(
     rules: FootRules,
 ) -> Faults:
     """The step's faults from its channels (time, bonds, pre-pressure) and its acquisition
-    scalars (switch_time, max_clearance, min_bend_radius, landing_pre_pressure, peak_body_acc)."""
+    scalars (switch_time, max_clearance, min_bend_radius, landing_pre_pressure, held_pull,
+    peak_body_acc)."""
     release = release_fault(
         t,
         bonds,
@@ -66,5 +69,22 @@ def foot_faults(
     landed = landing_fault(
         scalars["landing_pre_pressure"], held, rules.pre_pressure, rules.landing_tolerance
     )
+    hold = hold_fault(
+        scalars.get("proof_held", float("nan")),
+        scalars.get("held_pull", float("nan")),
+        rules.proof_pull,
+    )
     shook = shake_fault(scalars["peak_body_acc"], rules.body_acc_limit)
-    return Faults(release, film, landed, shook, held)
+    return Faults(release, film, landed, hold, shook, held)
+
+
+def hold_fault(held: float, held_pull: float, proof_pull: float | None) -> str:
+    """ "" when the landed pad ``held`` (1) ``proof_pull`` (N; None: the robot's rules ask for
+    none) through the proof hold, else the most it bore."""
+    if proof_pull is None or held == 1.0:
+        return ""
+    if held != held:
+        return "the landed pad's proof pull was not measured"
+    if held_pull >= proof_pull:
+        return f"the landed pad bore F_proof {proof_pull:.2f} N, then let a tenth go in the hold"
+    return f"the landed pad let a tenth go at {held_pull:.2f} N, below F_proof {proof_pull:.2f} N"

@@ -37,7 +37,7 @@ from ftfof.evaluate.runs import (
     table_rows,
 )
 from ftfof.evaluate.step_check import StepCheck, checked_figures, step_check
-from ftfof.evaluate.table import COLUMNS, PAPER_TABLE_I, PEAKS, TableRow, table_one
+from ftfof.evaluate.table import PAPER_TABLE_I, PEAKS, TableRow, table_one
 from ftfof.kinematics.legs import build_leg
 from ftfof.optimize.select import FRONT
 from ftfof.robot import RobotContext
@@ -138,33 +138,9 @@ def front_members(
     (``rules``, the simulator check's, with where the film limit comes from), so the
     choice can be judged in simulation. With ``films``, each member's bend on the check film
     too, and whether it keeps fc there."""
-    sims = simulated_rows(df)
-    members = []
-    for _, row in sims.iterrows():  # a few tens of rows, once per evaluation
-        f = figures_of(row, T3)
-        faults = run_faults(row, f, rules)
-        members.append(
-            {
-                "row": int(row.sample_id),
-                "optimum": row.source == OPTIMUM,
-                "peak_pull": round(f["peak_pull"], 4),
-                "jitter": round(f["jitter"], 4),
-                "landing_pre_pressure_error": round(
-                    abs(f["landing_pre_pressure"] - rules.pre_pressure), 4
-                ),
-                "min_bend_radius": round(f["min_bend_radius"], 6),
-                "film_safe": not faults.film,
-                **_on_check_film(films, run_name(row.source, int(row.sample_id)), rules.film.fc),
-                "max_clearance": round(float(row.max_clearance), 6),
-                "lets_go": not faults.release,
-                "release_fault": faults.release,
-                "lands": not faults.landing,
-                "landing_fault": faults.landing,
-                "calm": not faults.shake,
-                "shake_fault": faults.shake,
-                "clean": faults.clean,  # a real foot could run it
-            }
-        )
+    members = [
+        _member(row, T3, rules, films) for _, row in simulated_rows(df).iterrows()
+    ]  # a few tens of rows, once per evaluation
 
     def fraction(key: str) -> float | None:
         """Over every member; one without a verdict (no run on the check film) counts as not
@@ -179,13 +155,47 @@ def front_members(
         else None,
         "lets_go_fraction": fraction("lets_go"),
         "lands_fraction": fraction("lands"),
+        "holds_fraction": fraction("holds"),
         "calm_fraction": fraction("calm"),
         "clean_fraction": fraction("clean"),
         "film_limit": rules.film.as_dict(),
         "swing_clearance": rules.swing_clearance,
         "landing_tolerance": rules.landing_tolerance,
         "body_acc_limit": rules.body_acc_limit,
+        "proof_pull": rules.proof_pull,
     }
+
+
+def _member(row: pd.Series, T3: float, rules: FootRules, films: FilmCheck | None) -> dict:
+    """One re-simulated run's figures and verdicts under ``rules`` (:func:`front_members`)."""
+    f = figures_of(row, T3)
+    faults = run_faults(row, f, rules)
+    return {
+        "row": int(row.sample_id),
+        "optimum": row.source == OPTIMUM,
+        "peak_pull": round(f["peak_pull"], 4),
+        "jitter": round(f["jitter"], 4),
+        "landing_pre_pressure_error": round(abs(f["landing_pre_pressure"] - rules.pre_pressure), 4),
+        "min_bend_radius": round(f["min_bend_radius"], 6),
+        "film_safe": not faults.film,
+        **_on_check_film(films, run_name(row.source, int(row.sample_id)), rules.film.fc),
+        "max_clearance": round(float(row.max_clearance), 6),
+        "lets_go": not faults.release,
+        "release_fault": faults.release,
+        "lands": not faults.landing,
+        "landing_fault": faults.landing,
+        "held_pull": _finite(f["held_pull"]),
+        "holds": not faults.hold,
+        "hold_fault": faults.hold,
+        "calm": not faults.shake,
+        "shake_fault": faults.shake,
+        "clean": faults.clean,  # a real foot could run it
+    }
+
+
+def _finite(value: float) -> float | None:
+    """``value`` to four decimals, or None where the run did not measure it (JSON has no NaN)."""
+    return round(value, 4) if np.isfinite(value) else None
 
 
 def run_faults(row: pd.Series, figures: dict[str, float], rules: FootRules) -> Faults:
@@ -199,6 +209,7 @@ def run_faults(row: pd.Series, figures: dict[str, float], rules: FootRules) -> F
             **figures,
             "switch_time": float(row.switch_time),
             "max_clearance": float(row.max_clearance),
+            "proof_held": float(row.get("proof_held", np.nan)),
         },
         rules,
     )
@@ -277,7 +288,7 @@ def metrics(
 
     def entry(row) -> dict:
         out = {}
-        for c, _, _ in COLUMNS:
+        for c in row.values:
             out[c] = round(row.values[c], 4)
             out[f"{c}_change"] = round(row.change[c], 2)
         return out

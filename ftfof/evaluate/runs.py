@@ -11,7 +11,7 @@ from ftfof.data.dataset import CHANNELS
 from ftfof.errors import SimulationError
 from ftfof.evaluate.film_check import FILM
 from ftfof.evaluate.step_check import FINE
-from ftfof.evaluate.table import COLUMNS, TableRow, table_one
+from ftfof.evaluate.table import COLUMNS, LANDED, TableRow, table_one
 from ftfof.trajectory.baselines import BASELINE_NAMES
 
 OPTIMUM = "optimum"
@@ -66,13 +66,14 @@ def figures_of(row: pd.Series, T3: float) -> dict[str, float]:
     """One simulation's Table I figures: the acquisition's scalars and the detachment jitter."""
     out = {c: float(row[c]) for c, _, _ in COLUMNS if c != "jitter"}
     out["jitter"] = float(np.max(targets.full_rate(channels(row), T3)["body_acc"]))
-    return out
+    return out | {c: float(row.get(c, np.nan)) for c, _, _ in LANDED}
 
 
 def table_rows(df: pd.DataFrame, reference: str, T3: float) -> list[TableRow]:
     """The Table I analogue, with the foot's pull and film figures, against ``reference``."""
     peaks = {name: figures_of(row, T3) for name, row in compared(df, reference).items()}
-    return table_one(peaks, reference, COLUMNS)
+    landed = all(np.isfinite(f[c]) for f in peaks.values() for c, _, _ in LANDED)
+    return table_one(peaks, reference, COLUMNS + LANDED if landed else COLUMNS)
 
 
 def simulated_rows(df: pd.DataFrame) -> pd.DataFrame:

@@ -31,6 +31,9 @@ MEASURED = (
     "peak_body_acc",
     "max_clearance",
     "switch_time",
+    "rebond_fraction",
+    "held_pull",
+    "proof_held",
 )
 
 

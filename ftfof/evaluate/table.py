@@ -32,6 +32,13 @@ FOOT: tuple[Column, ...] = (
     ("min_bend_radius", "min film bend radius", "m"),
 )
 COLUMNS: tuple[Column, ...] = PEAKS + FOOT
+# After the landing (ftfof/sim/proof.py): the pad's bonded share when the landing hold ends, and
+# the pull it held in the proof pull (F_proof where it held); only where the robot has a proof
+# pull, so only beside COLUMNS where every compared run measured them.
+LANDED: tuple[Column, ...] = (
+    ("rebond_fraction", "landing re-bond", ""),
+    ("held_pull", "pull held after landing", "N"),
+)
 
 
 @dataclass(frozen=True)

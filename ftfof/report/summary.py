@@ -7,20 +7,27 @@ from __future__ import annotations
 from typing import Any
 
 from ftfof.evaluate.runs import PAPER_OPTIMUM, table_name
-from ftfof.evaluate.table import COLUMNS, TableRow
+from ftfof.evaluate.table import COLUMNS, LANDED, TableRow
 from ftfof.trajectory.bezier import DECISION_NAMES
 
 # Table I's figures as the paper reports them: detachment force, pre-pressure, and the body's
 # jitter where its IMU read it (during detachment)
 PAPER = ("peak_detachment", "peak_pre_pressure", "jitter")
 # how a column is better: lower (the default), higher, or closer to the pre-pressure a
-SENSE = {"min_bend_radius": "higher", "landing_pre_pressure": "target"}
+SENSE = {
+    "min_bend_radius": "higher",
+    "landing_pre_pressure": "target",
+    "rebond_fraction": "higher",
+    "held_pull": "higher",
+}
 HEADLINE = {
     "peak_detachment": "the pull the pad's adhesion must bear to let go; lower leaves margin",
     "peak_pre_pressure": "the largest press on the wall; lower lands and presses more gently",
     "jitter": "the body's shake while the foot detaches (the paper's IMU figure); lower is calmer",
     "landing_pre_pressure": "the press the foot lands with; closest to a loads the pad as meant",
     "min_bend_radius": "the film's tightest bend; it must stay at or above fc, larger is safer",
+    "held_pull": "the pull the landed pad held before a tenth let go; the stance must hold its"
+    " robot's demand",
 }
 GLOSSARY = (
     ("fs1", "peak detachment force (FTFOF eq. 10)"),
@@ -48,7 +55,7 @@ def better(key: str, value: float, reference: float, a: float) -> str:
 
 
 def _column(key: str) -> dict[str, Any]:
-    label, unit = next((label, unit) for c, label, unit in COLUMNS if c == key)
+    label, unit = next((label, unit) for c, label, unit in COLUMNS + LANDED if c == key)
     scale = {"unit": "mm", "scale": 1e3} if unit == "m" else {"unit": unit, "scale": 1.0}
     return {"key": key, "label": label, "sense": SENSE.get(key, "lower"), **scale}
 
@@ -60,7 +67,7 @@ def tables(
     ``reference`` and its colour; ``a`` is the robot's optimal pre-pressure; each row says
     whether the robot can run it (``breaks``: the rules it breaks, where it was judged)."""
     ref = next(r for r in rows if r.trajectory == reference)
-    other = [c for c, _, _ in COLUMNS if c not in PAPER]
+    other = [c for c in ref.values if c not in PAPER]
     out = []
     for title, keys in (("Table I: the paper's figures", PAPER), ("The foot and the film", other)):
         columns = [_column(k) for k in keys]

@@ -2,7 +2,7 @@
 
 The climbing robot's fore stance foot is pulled at its ankle when the other fore foot presses its
 landing: on a wall the feet's normal forces sum to zero, and the trunk's weight, off the wall,
-tips it away, so the fore foot holds a + m g h / L (:func:`ftfof.climb.model.fore_foot_demand`).
+tips it away, so the fore foot holds a + m g h / L (:func:`ftfof.demand.fore_foot_demand`).
 This is that load on the platform: settle and press the pad to the pre-pressure a as a sample
 does, then move the normal load from a press to a ``pull`` (N) over ``ramp`` with the press loop
 (a force control on the sensor, as a real platform would run it), and keep it for ``hold``
@@ -20,7 +20,7 @@ import numpy as np
 from ftfof.sim.bonds import BondLaw
 from ftfof.sim.model import Platform, build
 from ftfof.sim.padstate import PadTracker
-from ftfof.sim.prestep import press_control
+from ftfof.sim.press import press_control
 from ftfof.sim.settings import solver_settings
 from ftfof.sim.spec import SampleSpec
 from ftfof.trajectory.bezier import Samples
@@ -105,6 +105,7 @@ def hold_test(spec: SampleSpec, pull: float, ramp: float, hold: float) -> Hold:
     run = replace(
         spec,
         trajectory=at_rest(hold),
+        proof_pull=None,  # this test is its own pull
         platform=spec.platform.model_copy(update={"protocol": protocol}),
     )
     law = BondLaw.from_surface(run.surface, run.solver.contact_smoothing)

@@ -26,6 +26,7 @@ from exudyn.itemInterface import (
 )
 
 import ftfof.config as config
+from ftfof.demand import SERVO_LINK_MASS
 from ftfof.errors import SimulationError
 from ftfof.kinematics.legs import Leg, build_leg
 from ftfof.sim.foot import ankle_joint_law
@@ -33,7 +34,6 @@ from ftfof.sim.spec import SampleSpec
 
 ATTACH_STIFFNESS = 2e5  # N/m, foot-to-ankle-link attachment (stiff against the leg's compliance)
 ATTACH_DAMPING = 20.0
-SERVO_LINK_MASS = 0.005  # kg, the ankle servo's output flange
 
 
 def tree_node(mbs: Any, q0: np.ndarray) -> Any:

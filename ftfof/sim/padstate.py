@@ -72,6 +72,12 @@ class PadTracker:
         self.arm_at, self.disarm_at = film.ARM / stop_radius, film.DISARM / stop_radius
         self.last_break = -np.inf
 
+    @property
+    def bonded_share(self) -> float:
+        """The bonded share of the pad's area (a graded film's bonds hold unequal areas)."""
+        area = self.parts.area
+        return float(area[~self.state.broken].sum() / area.sum())
+
     def update(self, q: Array, qd: Array, h: float, t: float) -> PadStep:
         """Advance the bond states to the solver's state (q, qd) before a step of ``h``."""
         st, parts = self.state, self.parts

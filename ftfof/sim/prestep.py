@@ -17,14 +17,14 @@ import exudyn as exu
 import numpy as np
 from numpy.typing import NDArray
 
-from ftfof.config import Sensor
 from ftfof.sim.model import Platform
 from ftfof.sim.padstate import PadTracker
+from ftfof.sim.press import press_control
+from ftfof.sim.proof import ProofPull
 from ftfof.sim.records import FailureReason
 from ftfof.sim.stepsize import StepSize
 
 Array = NDArray[np.float64]
-PRESS_TIME_CONSTANT = 0.01  # s, integral action of the pre-pressure loop
 
 
 class PreStep(StepSize):
@@ -54,6 +54,8 @@ class PreStep(StepSize):
         self.stop_reason: FailureReason | None = None
         self.stop_message = ""
         self.steps = 0
+        self.proof = None if s.proof_pull is None else ProofPull(p, self.plate_index)
+        self.t_proof = s.landing_end
 
     def __call__(self, mbs, t: float) -> bool:
         q = self.data.GetODE2Coordinates(copy=False)
@@ -65,6 +67,10 @@ class PreStep(StepSize):
             self.bonded_log.append(~self.state.broken)
         if t <= self.t0:
             self._press(t, q, qd)
+        elif self.proof is not None and t > self.t_proof:
+            h = self.solver.it.currentStepSize
+            if not self.proof(t, q, qd, h, self.pad.bonded_share):
+                return False  # a tenth of the pad let go: the test ends (not a failure)
         if self.p.leg_update is not None:
             self.p.leg_update(t)
         if (
@@ -78,7 +84,7 @@ class PreStep(StepSize):
             self._control_step(t, lam_max, lowest)
         else:
             self.long_steps += self.h > self.step
-            self.h_next = self._next_step(t, qd, n_bonded, lowest)
+            self.h_next = self._next_step(t, qd, n_bonded, lowest, lam_max)
         self.steps += 1
         if self.steps % 64 == 0:
             if not np.isfinite(q).all():
@@ -92,6 +98,11 @@ class PreStep(StepSize):
                     f"time budget of {budget} s exceeded at t = {t:.4f} s",
                 )
         return True
+
+    @property
+    def proof_let_go(self) -> bool:
+        """The proof pull ended the run: a tenth of the pad let go (the test's end, no failure)."""
+        return self.proof is not None and self.proof.let_go
 
     def _stop(self, reason: FailureReason, message: str) -> bool:
         """Record why the run stops; False tells Exudyn to stop."""
@@ -112,41 +123,3 @@ class PreStep(StepSize):
             target,
             self.press_integral,
         )
-
-
-def press_control(
-    p: Platform,
-    plate_index: int,
-    q: Array,
-    qd: Array,
-    h: float,
-    target: float,
-    integral: float,
-    feedforward: bool = True,
-) -> float:
-    """Set the press depth so the sensor reads ``target`` (N, compression positive) by integral
-    action on its error, with the depth that presses ``target`` through the foot as feedforward
-    unless something else presses it (the slip test's sled); returns the updated integral (the
-    caller keeps it between steps)."""
-    k = p.series_stiffness
-    integral = press_integral(p.spec.platform.sensor, plate_index, q, qd, h, target, integral, k)
-    p.press_depth.SetValue((target / k if feedforward else 0.0) + integral)
-    return integral
-
-
-def press_integral(
-    sensor: Sensor,
-    plate_index: int,
-    q: Array,
-    qd: Array,
-    h: float,
-    target: float,
-    integral: float,
-    stiffness: float,
-) -> float:
-    """The press loop's integral after a step of ``h``: the depth (m) that brings the force
-    ``sensor`` under the plate at ``plate_index`` reads to ``target`` (N, compression positive)
-    through a press path of ``stiffness`` (N/m). The platform's press and the climbing robot's
-    landing press share it."""
-    compression = -(sensor.stiffness * q[plate_index + 1] + sensor.damping * qd[plate_index + 1])
-    return integral + (target - compression) / stiffness * min(h / PRESS_TIME_CONSTANT, 1.0)

@@ -85,7 +85,7 @@ def _simulate_once(spec: SampleSpec, idle_bonds: bool) -> SampleResult:
     end = platform.mbs.systemData.GetTime()
     if reason is None and run.stop_reason is not None:
         reason, error = run.stop_reason, f"stopped early: {run.stop_message}"
-    elif reason is None and end < spec.end_time - 1e-9:
+    elif reason is None and end < spec.end_time - 1e-9 and not run.proof_let_go:
         reason = FailureReason.STOPPED_EARLY
         error = f"stopped early at t = {end:.4f} s of {spec.end_time:.4f} s"
     channels = _channels(platform, run)
@@ -110,7 +110,7 @@ def _channels(p: Platform, run: PreStep) -> dict[str, Array]:
     spec, mbs = p.spec, p.mbs
     sensor = spec.platform.sensor
     raw = {k: np.asarray(mbs.GetSensorStoredData(v)) for k, v in p.sensors.items()}
-    t_end = float(raw["Fz"][-1, 0]) if len(raw["Fz"]) else 0.0
+    t_end = min(float(raw["Fz"][-1, 0]), spec.landing_end) if len(raw["Fz"]) else 0.0
     t = np.arange(0.0, t_end + 1e-12, 1.0 / sensor.rate_hz)
 
     def at(name: str, col: int) -> Array:
@@ -218,4 +218,22 @@ def summarize(result: SampleResult, run: PreStep, spec: SampleSpec) -> dict[str,
         "steps": float(run.steps),
         "long_steps": float(run.long_steps),
         "retries": 0.0,
+        **_proof_figures(run, spec),
+    }
+
+
+def _proof_figures(run: PreStep, spec: SampleSpec) -> dict[str, float]:
+    """The landing's re-bond and its proof pull (:mod:`ftfof.sim.proof`): the bonded share of
+    the pad's area when the landing hold ended, the pull it held and whether it held F_proof to
+    the end (1 or 0; NaN: no proof pull, or the run did not reach it)."""
+    area = run.pad.parts.area
+    times = np.array([entry[0] for entry in run.bond_log])
+    at_end = run.bonded_log[int(np.searchsorted(times, spec.landing_end, side="right")) - 1]
+    proof = run.proof
+    reached = proof is not None and not math.isnan(proof.from_press)
+    return {
+        "rebond_fraction": float(area[at_end].sum() / area.sum()),
+        "proof_pull": math.nan if spec.proof_pull is None else spec.proof_pull,
+        "held_pull": proof.held_pull if reached else math.nan,  # type: ignore[union-attr]
+        "proof_held": float(not proof.let_go) if reached else math.nan,  # type: ignore[union-attr]
     }

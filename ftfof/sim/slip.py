@@ -26,7 +26,7 @@ from ftfof.identify.log import SlipLog
 from ftfof.sim.bonds import BondLaw
 from ftfof.sim.model import Platform, build
 from ftfof.sim.padstate import PadTracker
-from ftfof.sim.prestep import press_control
+from ftfof.sim.press import press_control
 from ftfof.sim.settings import solver_settings
 from ftfof.sim.spec import SampleSpec
 from ftfof.trajectory.bezier import Samples
@@ -188,6 +188,7 @@ def slip_test(
             mechanics=mechanics,
             seed=spec.seed + i,
             ankle_rest=0.0,  # the fixture holds the plate flat
+            proof_pull=None,
         )
         parts.append(slip_run(run, load))
     step = 1.0 / spec.platform.sensor.rate_hz

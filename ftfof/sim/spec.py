@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 import ftfof.config as config
+from ftfof.demand import proof_pull
 from ftfof.seeds import seed_for
 from ftfof.trajectory.bezier import evaluate
 from ftfof.trajectory.piecewise import PiecewiseQuintic, Sampled
@@ -36,6 +37,7 @@ class SampleSpec:
     leg: config.PlanarLeg | config.SpatialLeg
     seed: int
     ankle_rest: float = 0.0  # the foot's rest angle in the air, rad (Robot.ankle_rest_angle)
+    proof_pull: float | None = None  # F_proof, N, pulled after the landing hold; None: no pull
 
     @property
     def trajectory_start(self) -> float:
@@ -43,10 +45,19 @@ class SampleSpec:
         return p.settle + p.press + p.press_hold
 
     @property
-    def end_time(self) -> float:
+    def landing_end(self) -> float:
+        """When the landing hold ends: the record's end (channels and Table I's figures)."""
         return (
             self.trajectory_start + self.trajectory.duration + self.platform.protocol.landing_hold
         )
+
+    @property
+    def end_time(self) -> float:
+        """The run's end: the landing hold's, or the proof pull's after it."""
+        if self.proof_pull is None:
+            return self.landing_end
+        p = self.platform.protocol
+        return self.landing_end + p.proof_ramp + p.proof_hold
 
 
 @dataclass(frozen=True)
@@ -77,6 +88,7 @@ class Bench:
             leg=r.leg,
             seed=seed_for(self.seed, "acquisition", sample_id),
             ankle_rest=r.ankle_rest_angle,
+            proof_pull=proof_pull(r),
         )
 
     def bezier(self, source: str, sample_id: int, X: np.ndarray) -> SampleSpec:

@@ -10,7 +10,7 @@ import pytest
 
 from ftfof.climb.press import LandingPress
 from ftfof.sim.model import in_series
-from ftfof.sim.prestep import PRESS_TIME_CONSTANT
+from ftfof.sim.press import PRESS_TIME_CONSTANT
 
 SENSOR = SimpleNamespace(stiffness=2e5, damping=0.0)
 PATH = 5e4  # N/m, the press path's stiffness up to the sensor

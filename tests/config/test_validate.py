@@ -25,3 +25,20 @@ def test_each_problem_names_its_key_path_and_the_value_it_got(params_dict):
     params_dict["optimize"]["population"] = -1
     with pytest.raises(ParamsError, match=r"2 problems:\n  sample\.n: .*\n  optimize\.population"):
         parse_params(params_dict)
+
+
+def test_a_proof_pull_needs_the_climber_it_is_the_demand_of(params_dict):
+    robot = params_dict["robots"][params_dict["robot"]]
+    robot["climber"] = None
+    with pytest.raises(ParamsError, match=r"robots\.mst_m3f: proof: F_proof is the climbing"):
+        parse_params(params_dict)
+    robot["proof"] = None
+    assert parse_params(params_dict).selected_robot.proof is None
+
+
+def test_a_proof_hold_longer_than_the_stance_is_refused(params_dict):
+    params_dict["platform"]["protocol"]["proof_hold"] = 3.5  # MST-M3F stands 3 x 1 s
+    with pytest.raises(ParamsError, match=r"platform\.protocol\.proof_hold: 3\.5 s is longer"):
+        parse_params(params_dict)
+    params_dict["robots"][params_dict["robot"]]["proof"] = None  # no pull, no hold to judge
+    parse_params(params_dict)

@@ -68,3 +68,32 @@ def test_a_value_the_simulation_did_not_give_breaks_its_rule(scalar, rule):
     assert [name for name in ("release", "film", "landing", "shake") if getattr(faults, name)] == [
         rule
     ]
+
+
+PROVED = FootRules(**{**RULES.__dict__, "proof_pull": 6.6})
+
+
+def test_a_landed_pad_must_hold_the_proof_pull_to_the_end_of_its_hold():
+    def hold(**scalars: float) -> str:
+        Fp = np.where(TIME > 1.0, 5.0, 0.0)
+        return foot_faults(TIME, BONDS, Fp, {**GOOD, **scalars}, PROVED).hold
+
+    assert hold(proof_held=1.0, held_pull=6.6) == ""
+    assert hold(proof_held=0.0, held_pull=4.96) == (
+        "the landed pad let a tenth go at 4.96 N, below F_proof 6.60 N"
+    )
+    assert hold(proof_held=0.0, held_pull=6.6) == (
+        "the landed pad bore F_proof 6.60 N, then let a tenth go in the hold"
+    )
+    assert hold() == "the landed pad's proof pull was not measured"  # a record without the phase
+    # a robot whose rules ask for no proof pull judges no record by it
+    assert _faults().hold == "" and _faults().clean
+
+
+def test_the_hold_is_told_after_the_landing_and_before_the_shake():
+    Fp = np.where(TIME > 1.0, 4.0, 0.0)
+    scalars = {**GOOD, "peak_body_acc": 12.0, "proof_held": 0.0, "held_pull": 3.0}
+    faults = foot_faults(TIME, BONDS, Fp, scalars, PROVED)
+    assert faults.first == faults.landing
+    faults = foot_faults(TIME, BONDS, np.where(TIME > 1.0, 5.0, 0.0), scalars, PROVED)
+    assert faults.first == faults.hold and faults.shake

@@ -82,8 +82,21 @@ def test_nominees_are_the_pools_pull_jitter_layers_in_rhs_order():
 ACQUIRED_ROWS = Path(__file__).parents[1] / "data" / "acquired_rows.parquet"
 
 
+def _proof_pulled(table: pa.Table, let_go: str | None = None) -> pa.Table:
+    """The rows (from before the proof pull) with its verdict: each held F_proof, but ``let_go``,
+    which let a tenth of its pad go at 5 N."""
+    keys = table.column("key").to_pylist()
+    force = 6.58922
+    held = [0.0 if k == let_go else 1.0 for k in keys]
+    pulls = [5.0 if k == let_go else force for k in keys]
+    table = table.append_column("proof_pull", pa.array([force] * len(keys)))
+    return table.append_column("held_pull", pa.array(pulls)).append_column(
+        "proof_held", pa.array(held)
+    )
+
+
 def test_the_acquisitions_clean_sampled_runs_are_candidates_with_their_objectives(m3f, params):
-    table = pq.read_table(ACQUIRED_ROWS)
+    table = _proof_pulled(pq.read_table(ACQUIRED_ROWS))
     points = acquired_points(m3f, table, params.dataset)
     assert points.origin == ACQUIRED
     keys = table.column("key").to_pylist()
@@ -103,6 +116,9 @@ def test_the_acquisitions_clean_sampled_runs_are_candidates_with_their_objective
         pa.array(["failed" if k == "sampled:1" else "ok" for k in keys]),
     )
     np.testing.assert_array_equal(acquired_points(m3f, failed, params.dataset).X, points.X[1:])
+    # and one whose landed pad let go in the proof pull is none
+    let_go = _proof_pulled(pq.read_table(ACQUIRED_ROWS), let_go="sampled:156")
+    np.testing.assert_array_equal(acquired_points(m3f, let_go, params.dataset).X, points.X[[0, 2]])
     # they lead the pool: sampled:1 is a better trade than a round's point it dominates
     round_1 = Measured(X[[0]] + 1e-3, np.array([[7.1, 1.5, 0, 0, 0, 0]]), "refine:1")
     chosen = nominees_of([points, round_1], 1, Optimize())

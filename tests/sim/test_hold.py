@@ -2,8 +2,8 @@
 
 import pytest
 
-from ftfof.climb.model import fore_foot_demand, robot_mass
 from ftfof.config import GRAVITY
+from ftfof.demand import fore_foot_demand, robot_mass
 from ftfof.sim.hold import at_rest, hold_test
 from tests.sim.helpers import bench
 

@@ -51,9 +51,9 @@ class _Logged(prestep.PreStep):
         self.log.append((t, h, int((~st.broken).sum()), active, self._lowest, self.switched_at))
         return go
 
-    def _next_step(self, t, qd, n_bonded, lowest):
+    def _next_step(self, t, qd, n_bonded, lowest, load):
         self._lowest = lowest
-        return super()._next_step(t, qd, n_bonded, lowest)
+        return super()._next_step(t, qd, n_bonded, lowest, load)
 
     def _control_step(self, t, lam_max, lowest):
         self._lowest = lowest

@@ -33,6 +33,7 @@ def test_points_the_robot_cannot_run_are_refused_naming_the_rule(tmp_path):
 
 def test_a_robot_without_a_climber_cannot_climb(tmp_path, params_dict):
     del params_dict["robots"]["mst_m3f"]["climber"]
+    params_dict["robots"]["mst_m3f"]["proof"] = None  # the proof pull is the climber's demand
     params = write_params(tmp_path / "params.yaml", params_dict)
     result = runner.invoke(
         app, cli_args("climb", params, baseline="polynomial", out_dir=tmp_path / "o")
@@ -87,3 +88,18 @@ def test_a_one_step_climb_writes_its_channels_imu_metrics_and_traces(tmp_path, p
     assert {"t", "body_x", "Fz_FL", "bonds_HR", "torque_FL1"} <= set(channels.column_names)
     imu = pq.read_table(out / "cycloidal_imu.parquet")
     assert imu.column_names == ["t", "acc_x", "acc_z", "gyro", "acc"]
+
+
+def test_a_proof_pull_above_the_pads_strength_is_refused_before_anything_runs(
+    tmp_path, params_dict
+):
+    """20 times the fore foot's demand is 132 N, past the acrylic pad's whole strength sigma A
+    (66.7 N): no landing could hold it, and the search would refuse every trajectory."""
+    params_dict["robots"]["mst_m3f"]["proof"]["safety_factor"] = 20.0
+    params = write_params(tmp_path / "params.yaml", params_dict)
+    result = runner.invoke(
+        app, cli_args("climb", params, baseline="polynomial", out_dir=tmp_path / "o")
+    )
+    assert result.exit_code == 2 and "proof.safety_factor" in result.stderr
+    assert "above the pad's strength" in result.stderr
+    assert len(result.stderr.strip().splitlines()) == 1 and not (tmp_path / "o").exists()

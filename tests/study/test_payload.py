@@ -60,6 +60,7 @@ def test_the_loaded_spec_adds_the_mass_to_the_trunk_only(params):
 
 def test_a_robot_without_a_climber_is_refused_in_one_line_writing_nothing(params_dict, tmp_path):
     params_dict["robots"][params_dict["robot"]]["climber"] = None
+    params_dict["robots"][params_dict["robot"]]["proof"] = None  # the climber's demand
     path = write_params(tmp_path / "params.yaml", params_dict)
     report, figure = tmp_path / "payload.json", tmp_path / "payload.png"
     args = ["study", "payload", "-p", str(path), "--report", str(report), "--figure", str(figure)]

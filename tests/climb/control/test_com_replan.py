@@ -9,8 +9,8 @@ import pytest
 from ftfof.climb.control.com_replan import PlannerReplanner
 from ftfof.climb.control.replan import ReplanRequest
 from ftfof.climb.gait import Gait
-from ftfof.climb.model import robot_mass
 from ftfof.climb.simulate import chain_of, gait_of
+from ftfof.demand import robot_mass
 from tests.climb.helpers import spec_of
 
 STEP = 1  # FL's

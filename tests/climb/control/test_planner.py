@@ -17,9 +17,9 @@ from ftfof.climb.control.planner import (
     plan_step,
     replan_swing,
 )
-from ftfof.climb.model import robot_mass
 from ftfof.climb.simulate import chain_of
 from ftfof.config import GRAVITY
+from ftfof.demand import robot_mass
 
 SAMPLES = 200
 TOL = 1e-6  # N: the planner's checks hold to 1e-9 N at their bounds

@@ -155,6 +155,12 @@ def pad_retouch(retouch: Array, allowed: float) -> Array:
     return np.max(retouch, axis=-1) / allowed - 1.0
 
 
+def pad_holds(holds: Array) -> Array:
+    """1 - max verdict / 0.5: <= 0 when the landed pad more likely than not holds the proof pull
+    (the holds target is 1 where it held, 0 where it let go, so a prediction is the chance)."""
+    return 1.0 - np.max(holds, axis=-1) / 0.5
+
+
 @dataclass(frozen=True)
 class Evidence:
     """What the strategy functions read for one population.

@@ -17,10 +17,12 @@ Objective = Literal["fs1", "fs2", "fs3", "fs4", "fs5", "fs7", "fsj", "fs1_normal
 Strategy = Literal[Objective, "fs6"]  # every strategy function (FTFOF §V.A)
 Loss = Literal["dilate", "mse"]
 # the surrogates' target series (ftfof.data.targets.TARGETS, in its order)
-Target = Literal["pull", "Fd", "Fp", "jitter", "body_acc", "curvature", "clearance", "retouch"]
+Target = Literal[
+    "pull", "Fd", "Fp", "jitter", "body_acc", "curvature", "clearance", "retouch", "holds"
+]
 # those only ever read by their maximum, which a peak GP may set (pull and Fd: fs2 reads their
 # mean; clearance: the swing gap reads its dip)
-PeakTarget = Literal["Fp", "jitter", "body_acc", "curvature", "retouch"]
+PeakTarget = Literal["Fp", "jitter", "body_acc", "curvature", "retouch", "holds"]
 Baseline = Literal["polynomial", "cycloidal", "random_bezier", "eps_bezier"]
 Design = Literal["sobol", "lhs"]
 

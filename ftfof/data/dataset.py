@@ -181,9 +181,11 @@ def resample(
     hold: float,
     seq_len: int,
     landing_start: float | None = None,
+    proof_held: float = np.nan,
 ) -> dict[str, Array]:
     """One sample's sequences; ``channels["t"]`` is time from the trajectory start,
-    ``landing_start`` the robot's T2 (without it the ``retouch`` target is not supplied)."""
+    ``landing_start`` the robot's T2 (without it the ``retouch`` target is not supplied),
+    ``proof_held`` its proof pull's verdict (NaN: a record without one, no ``holds`` target)."""
     t, x, z = channels["t"], channels["x_cmd"], channels["z_cmd"]
     grid = tg.time_base(T3, hold, seq_len)
     vx, vz = np.gradient(x, t), np.gradient(z, t)
@@ -193,7 +195,7 @@ def resample(
         "z": np.interp(grid, t, z),
         "vx": np.interp(grid, t, vx),
         "vz": np.interp(grid, t, vz),
-        **tg.binned(channels, T3, hold, seq_len, landing_start),
+        **tg.binned(channels, T3, hold, seq_len, landing_start, proof_held),
     }
 
 
@@ -263,13 +265,19 @@ def _sequences(
     sample whose time does not strictly increase is refused by key."""
     series = {c: list_column(ok, c) for c in CHANNELS}
     n = ok.num_rows
+    # a table from before the proof pull, or an imported log without the phase: no verdict
+    held = (
+        ok.column("proof_held").to_numpy()
+        if "proof_held" in ok.column_names
+        else np.full(n, np.nan)
+    )
     seqs = {name: np.empty((n, settings.seq_len)) for name in ("t", *INPUTS, *TARGETS)}
     for i in range(n):  # once per dataset build, not a hot path
         t = series["t"][i]
         if t.size < 2 or np.any(np.diff(t) <= 0):
             raise DataError(keys[i], "series time is not strictly increasing")
         channels = {c: series[c][i] for c in CHANNELS}
-        s = resample(channels, T3[i], settings.hold, settings.seq_len, landing_start)
+        s = resample(channels, T3[i], settings.hold, settings.seq_len, landing_start, held[i])
         for name, values in s.items():
             seqs[name][i] = values
     return seqs

@@ -33,6 +33,11 @@ gives on the binned series, so a predicted and a simulated objective measure the
   A pad that never lets go holds the wall all along: its bonds count from t = 0. Only where the
   record has the bonds and the switch (the 5 % rule can fall before the last bond breaks) and
   the caller gives the landing segment's start.
+- ``holds``: 1 on the landing window where the landed pad held the proof pull's F_proof through
+  its hold (:mod:`ftfof.sim.proof`, after the record's end), 0 where a tenth of it let go; bin
+  maximum -> g = 1 - max / 0.5 <= 0, more likely than not it holds. The held pull itself is no
+  target: a pad that holds bears F_proof exactly, one that lets go a little less, so a regression
+  on it is read against a cap it never passes; the verdict is what the rule needs.
 
 Complete detachment is the photoelectric switch. A simulated record whose switch never trips
 never let go: its pull window runs to the end and it has no landing (its pre-pressure is 0, as
@@ -53,7 +58,17 @@ from ftfof.objectives import DETACHED_FRACTION, jitter_exceedance
 
 Array = NDArray[np.float64]
 
-TARGETS = ("pull", "Fd", "Fp", "jitter", "body_acc", "curvature", "clearance", "retouch")
+TARGETS = (
+    "pull",
+    "Fd",
+    "Fp",
+    "jitter",
+    "body_acc",
+    "curvature",
+    "clearance",
+    "retouch",
+    "holds",
+)
 UNITS = {
     "pull": "N",
     "Fd": "N",
@@ -63,6 +78,7 @@ UNITS = {
     "curvature": "1/m",
     "clearance": "m",
     "retouch": "bonds",
+    "holds": "",
 }
 JITTER_TAIL = 0.020  # s of fs7's window after complete detachment
 BODY_TAIL = 0.050  # s of fsj's window after complete detachment
@@ -129,11 +145,14 @@ def lift_off_time(t: Array, bonds: Array) -> float:
 
 
 def full_rate(
-    channels: Mapping[str, Array], T3: float, landing_start: float | None = None
+    channels: Mapping[str, Array],
+    T3: float,
+    landing_start: float | None = None,
+    proof_held: float = np.nan,
 ) -> dict[str, Array]:
     """Every target at the acquisition rate, 0 outside its window (``jitter``, a running total,
     holds its total after it), all NaN if not supplied (``retouch`` without ``landing_start``,
-    the trajectory's T2)."""
+    the trajectory's T2; ``holds`` without ``proof_held``, the record's proof verdict)."""
     t = np.asarray(channels["t"], dtype=float)
     nan = np.full_like(t, np.nan)
     fx = np.asarray(channels["Fx_pad"], dtype=float)
@@ -169,6 +188,7 @@ def full_rate(
         "retouch": (
             np.where((t > off_from) & (t < landing_start), bonds, 0.0) if knows_retouch else nan
         ),
+        "holds": np.where(t >= detached, proof_held, 0.0) if np.isfinite(proof_held) else nan,
     }
 
 
@@ -185,11 +205,12 @@ def binned(
     hold: float,
     seq_len: int,
     landing_start: float | None = None,
+    proof_held: float = np.nan,
 ) -> dict[str, Array]:
     """Every target on the dataset time base: (seq_len,) each, all NaN where not supplied."""
     t = np.asarray(channels["t"], dtype=float)
     out = {}
-    for name, values in full_rate(channels, T3, landing_start).items():
+    for name, values in full_rate(channels, T3, landing_start, proof_held).items():
         if not np.isfinite(values).all():
             out[name] = np.full(seq_len, np.nan)
         else:

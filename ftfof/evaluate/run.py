@@ -42,6 +42,7 @@ from ftfof.kinematics.legs import build_leg
 from ftfof.optimize.select import FRONT
 from ftfof.robot import RobotContext
 from ftfof.rules import FootRules
+from ftfof.stats import rank_rho
 from ftfof.surrogate.predict import Surrogate
 from ftfof.trajectory.baselines import BezierTrajectory
 from ftfof.trajectory.bezier import DECISION_NAMES
@@ -254,6 +255,25 @@ def fidelity_of(
     return fidelity(names, predicted[measured], simulated[measured]), predicted, simulated
 
 
+def hold_fidelity(inputs: Inputs, df: pd.DataFrame) -> dict[str, Any] | None:
+    """How the search's predicted chance that a landed pad holds F_proof (its ``pad_holds``
+    constraint, 1 - 2 chance) ranks the simulated members' held pull, and how often the chance's
+    side of 0.5 is the simulated verdict; None where the search did not predict it."""
+    column = "g:pad_holds"
+    if column not in inputs.front.columns:
+        return None
+    sims = simulated_rows(df)
+    measured = slice(0 if from_front(inputs) else 1, None)
+    chance = (1.0 - inputs.front.loc[sims.sample_id, column].to_numpy(float)[measured]) / 2
+    held_pull = sims.held_pull.to_numpy(float)[measured]
+    held = sims.proof_held.to_numpy(float)[measured] == 1.0
+    return {
+        "n": int(chance.size),
+        "spearman_held_pull": _finite(rank_rho(chance, held_pull)),
+        "verdict_agreement": _finite(float(np.mean((chance >= 0.5) == held))),
+    }
+
+
 def from_front(inputs: Inputs) -> bool:
     """Whether the optimum is a member of its front (not a nominee of earlier simulations)."""
     return inputs.optimum["origin"] == FRONT
@@ -363,6 +383,7 @@ def evaluate(
     candidates = rhs_candidates(inputs.optimum, inputs.objectives)
     summary = metrics(cfg, ctx.name, surface, inputs, rows, fid, controller, n_fidelity, front)
     summary["reference"], summary["reference_reason"] = reference, reason
+    summary["hold_fidelity"] = hold_fidelity(inputs, table)
     summary["robot_rules_broken"] = {name: list(rules) for name, rules in breaks.items()}
     summary["choice"] = choice_summary(candidates)
     summary["step_check"] = None if steps is None else steps.as_dict(OPTIMUM)

@@ -31,6 +31,7 @@ from ftfof.objectives import (
     film_safety,
     fs3_pre_pressure_error,
     pad_clearance,
+    pad_holds,
     pad_retouch,
     strategy_values,
 )
@@ -49,19 +50,26 @@ Array = NDArray[np.float64]
 # ``pad_retouch``: the same release's last part, on the predicted bonds re-formed between complete
 # detachment and the landing segment (:func:`ftfof.objectives.pad_retouch`), where the robot allows
 # a number. ``landing_press``, :mod:`ftfof.data.landing` on the predicted landing pre-pressure:
-# fs3 / (tolerance x a) - 1, where the robot has a landing tolerance.
+# fs3 / (tolerance x a) - 1, where the robot has a landing tolerance. ``pad_holds``, the proof
+# pull's rule (:func:`ftfof.data.faults.hold_fault`) on the predicted verdict: 1 - max / 0.5, more
+# likely than not the landed pad holds F_proof, where the robot's rules ask for it.
 PHYSICAL: dict[str, str] = {
     "film_safety": "curvature",
     "pad_clearance": "clearance",
     "pad_retouch": "retouch",
     "landing_press": "Fp",
+    "pad_holds": "holds",
 }
 
 
 def asked_limits(rules: FootRules) -> tuple[str, ...]:
     """The physical limits the robot asks for: the landing press and the retouch where it sets
     them."""
-    optional = {"landing_press": rules.landing_tolerance, "pad_retouch": rules.retouch_allowed}
+    optional = {
+        "landing_press": rules.landing_tolerance,
+        "pad_retouch": rules.retouch_allowed,
+        "pad_holds": rules.proof_pull,
+    }
     return tuple(name for name in PHYSICAL if optional.get(name, True) is not None)
 
 
@@ -87,6 +95,7 @@ def predicted_violations(
         "pad_clearance": release,
         "pad_retouch": lambda: pad_retouch(series["retouch"], rules.retouch_allowed),
         "landing_press": landing,
+        "pad_holds": lambda: pad_holds(series["holds"]),
     }
     return {name: measures[name]() for name in names}
 

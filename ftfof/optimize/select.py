@@ -317,7 +317,8 @@ def front_table(outcome: Outcome, ctx: RobotContext, models_digest: str) -> pa.T
         "dimensionless (fs7), m/s^2 (fsj); g: columns are violations in the rule's units "
         "(film_safety: limit * max curvature - 1; pad_clearance: 1 - max clearance / required; "
         "pad_retouch: max bonds re-formed in the swing / allowed - 1; "
-        "landing_press: |max landing Fp - a| / (tolerance * a) - 1; all predicted), > 0 violated",
+        "landing_press: |max landing Fp - a| / (tolerance * a) - 1; "
+        "pad_holds: 1 - max proof verdict / 0.5; all predicted), > 0 violated",
         "models_digest": models_digest,
     }
     table = pa.table(columns)

@@ -72,6 +72,7 @@ TITLES = {
     "curvature": "film curvature [1/m]",
     "clearance": "pad clearance [m]",
     "retouch": "bonds formed again in the swing [bonds]",
+    "holds": "the landed pad held F_proof [1: yes]",
 }
 
 

@@ -2,8 +2,9 @@
 
 A fake sample presses with 5 N, peels with a Gaussian pull of ``peak`` (normal) and 0.4 of it in
 shear, loses its bonds over the pull, trips the switch at 0.2 s, rings the body on release and
-lands at 1.05 s; its film bends with the pull and its pad rises to 50 mm in the swing (NaN
-``with_film=False``: a force log).
+lands at 1.05 s; its film bends with the pull and its pad rises to 50 mm in the swing, and its
+landed pad holds the 6.6 N proof pull where it peeled at under 5 N (NaN ``with_film=False``: a
+force log, without the film channels and the proof phase).
 """
 
 from __future__ import annotations
@@ -65,6 +66,9 @@ def fake_result(
     ch = fake_channels(peak, with_film)
     r = SampleResult(key, source, sample_id, status, "" if status == "ok" else "boom", 0.1, ch)
     r.scalars = {"peak_detachment": float(ch["Fd"].max()), "peak_pre_pressure": 5.0}
+    if with_film:
+        held = peak < 5.0
+        r.scalars |= {"proof_pull": 6.6, "held_pull": 6.6 if held else 5.0, "proof_held": held}
     return r
 
 

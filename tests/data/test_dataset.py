@@ -71,10 +71,11 @@ def test_targets_keep_the_peaks(built):
 
 
 def test_an_acquisition_without_the_film_channels_masks_their_targets():
+    """A force log has no film channels and no proof pull: those targets are masked."""
     settings = config.Dataset(seq_len=64)
     table, norm = dataset.build(fake_acquisition(with_film=False), settings, 3, landing_start=0.6)
     _, y = dataset.arrays(table, "train")
-    film = [dataset.TARGETS.index(name) for name in ("curvature", "clearance")]
+    film = [dataset.TARGETS.index(name) for name in ("curvature", "clearance", "holds")]
     assert np.isnan(y[..., film]).all() and np.isfinite(np.delete(y, film, axis=-1)).all()
     assert all(norm.target_scale[k] == 1.0 for k in film)
 

@@ -19,6 +19,6 @@ def surrogate() -> Surrogate:
     norm = Normalization(
         input_mean=[0.05, 0.01, 0.0, 0.0],
         input_scale=[0.04, 0.02, 0.3, 0.3],
-        target_scale=[2.0, 2.0, 3.0, 0.5, 20.0, 50.0, 0.02, 0.3],
+        target_scale=[2.0, 2.0, 3.0, 0.5, 20.0, 50.0, 0.02, 0.3, 0.5],
     )
     return Surrogate(_weights(1), TARGETS, TARGETS, norm, seq_len=32, hold=0.1)

@@ -64,16 +64,19 @@ def test_shapes_and_box(ctx, surrogate):
         expected = landing / (tolerance * ctx.robot.pre_pressure) - 1
         np.testing.assert_allclose(result.physical["landing_press"], expected)
         limits.append(expected)
+    holds = 1 - result.series["holds"].max(1) / 0.5  # more likely than not it holds F_proof
+    np.testing.assert_allclose(result.physical["pad_holds"], holds)
+    limits.append(holds)
     # the physical limits are the last columns, in PHYSICAL's order
     np.testing.assert_allclose(out["G"][:, -len(limits) :], np.column_stack(limits))
 
 
-@pytest.mark.parametrize("dropped", ["curvature", "clearance", "retouch", "Fp"])
+@pytest.mark.parametrize("dropped", ["curvature", "clearance", "retouch", "Fp", "holds"])
 def test_an_untrained_physical_target_is_no_constraint(m3f, surrogate, dropped):
     trained = tuple(n for n in surrogate.trained if n != dropped)
     untrained = dataclasses.replace(surrogate, trained=trained)
     problem = _problem(m3f, untrained)
-    assert problem.n_ieq_constr == len(problem.rules) + 3 and len(problem.physical) == 3
+    assert problem.n_ieq_constr == len(problem.rules) + 4 and len(problem.physical) == 4
     with pytest.raises(ValueError, match=dropped):
         untrained.predict(np.zeros((1, 32, 2)), np.zeros((1, 32, 2)), [dropped])
 
@@ -112,11 +115,19 @@ def test_objectives_follow_the_priority_order(m3f, surrogate):
     np.testing.assert_allclose(reversed_problem.evaluate_population(free).F, F[:, ::-1])
 
 
-def test_a_robot_asks_for_the_landing_press_and_the_retouch_only_where_it_sets_them(m3f):
-    neither = dataclasses.replace(m3f.rules, landing_tolerance=None, retouch_allowed=None)
+def test_a_robot_asks_for_the_landing_press_retouch_and_hold_only_where_it_sets_them(m3f):
+    neither = dataclasses.replace(
+        m3f.rules, landing_tolerance=None, retouch_allowed=None, proof_pull=None
+    )
     assert asked_limits(neither) == ("film_safety", "pad_clearance")
-    both = dataclasses.replace(neither, landing_tolerance=0.1, retouch_allowed=0.5)
-    assert asked_limits(both) == ("film_safety", "pad_clearance", "pad_retouch", "landing_press")
+    both = dataclasses.replace(neither, landing_tolerance=0.1, retouch_allowed=0.5, proof_pull=6.6)
+    assert asked_limits(both) == (
+        "film_safety",
+        "pad_clearance",
+        "pad_retouch",
+        "landing_press",
+        "pad_holds",
+    )
 
 
 def test_the_peak_models_set_fs3_fs7_and_the_landing_limit(m3f, surrogate):

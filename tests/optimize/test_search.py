@@ -19,8 +19,10 @@ def problem(m3f, surrogate):
         m3f.policy,
         surrogate,
         robot.objectives,
-        # no landing tolerance: this surrogate is untrained
-        dataclasses.replace(m3f.rules, landing_tolerance=None, retouch_allowed=None),
+        # no landing tolerance nor proof pull: this surrogate is untrained
+        dataclasses.replace(
+            m3f.rules, landing_tolerance=None, retouch_allowed=None, proof_pull=None
+        ),
     )
 
 

@@ -52,7 +52,7 @@ class Platform(Strict):
 # order: before the trajectory, the settle, the press ramp and its hold; in the trajectory, the
 # flight clear of the plate (no bond, from the switch + 70 ms); after it, the landing hold from
 # its 50th ms on
-LongPhase = Literal["settle", "press", "press_hold", "flight", "landing_hold", "proof_hold"]
+LongPhase = Literal["settle", "press", "press_hold", "flight", "landing_hold"]
 LONG_PHASES: tuple[LongPhase, ...] = get_args(LongPhase)
 
 

@@ -22,8 +22,10 @@ def climb_rows(
     climbed: Mapping[str, Any], rows: Sequence[TableRow], steps: int, paper_robot: bool
 ) -> list[dict[str, Any]]:
     """One row per climbed trajectory, in Table I's order: steps done, how it ended, its jitter
-    (detachment window and whole step), the platform's jitter, and the paper's where it has one."""
+    (detachment window and whole step), the platform's jitter and proof pull held, and the
+    paper's jitter where it has one."""
     platform = {r.trajectory: r.values.get("jitter") for r in rows}
+    held = {r.trajectory: r.values.get("held_pull") for r in rows}
     order = [r.trajectory for r in rows if r.trajectory in climbed]
     out = []
     for name in order:
@@ -45,6 +47,7 @@ def climb_rows(
                 "jitter_step": _number(c["jitter_step"]),
                 "peak_pull": _number(c["peak_pull"]),
                 "platform": _number(platform.get(name)),
+                "platform_held_pull": _number(held.get(name)),
                 "paper": paper if paper_robot else None,
             }
         )

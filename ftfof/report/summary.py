@@ -103,6 +103,8 @@ def run_this(
     paper = table.get(table_name(PAPER_OPTIMUM))
     figures = []
     for key, meaning in HEADLINE.items():
+        if key not in optimum.values:  # held_pull: only where the robot has a proof pull
+            continue
         column = _column(key)
         value = optimum.values[key]
         vs_paper = None if paper is None else 100.0 * (value / paper.values[key] - 1.0)

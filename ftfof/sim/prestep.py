@@ -55,7 +55,6 @@ class PreStep(StepSize):
         self.stop_message = ""
         self.steps = 0
         self.proof = None if s.proof_pull is None else ProofPull(p, self.plate_index)
-        self.t_proof = s.landing_end
 
     def __call__(self, mbs, t: float) -> bool:
         q = self.data.GetODE2Coordinates(copy=False)
@@ -84,7 +83,7 @@ class PreStep(StepSize):
             self._control_step(t, lam_max, lowest)
         else:
             self.long_steps += self.h > self.step
-            self.h_next = self._next_step(t, qd, n_bonded, lowest, lam_max)
+            self.h_next = self._next_step(t, qd, n_bonded, lowest)
         self.steps += 1
         if self.steps % 64 == 0:
             if not np.isfinite(q).all():

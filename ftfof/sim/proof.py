@@ -4,10 +4,11 @@ On the climbing robot a fore foot that has just landed is pulled at its ankle by
 landing's press and the trunk's tip, a + m g h / L (:func:`ftfof.demand.fore_foot_demand`). A real
 platform can test that with what it has: the press loop on its force sensor moves the load from
 the held landing press to a pull of F_proof over ``proof_ramp`` and keeps it ``proof_hold``, and
-the test ends as soon as a tenth of the pad has let go, before the pull can tear the rest (the pad
-survives the test). It reports whether the pad held, and ``held_pull``: the largest pull it bore
-before a tenth let go, at most F_proof (a pad that lets go in the hold bore F_proof, then failed
-as its bonds' rate strength faded: it did not hold).
+the test ends as soon as a further tenth of the pad's area has let go (of the share the landing
+bonded: a landing that re-bonded little is tested on what it bonded), before the pull can tear
+the rest (the pad survives the test). It reports whether the pad held, and ``held_pull``: the
+largest pull it bore before that tenth let go, at most F_proof (a pad that lets go in the hold
+bore F_proof, then failed as its bonds' rate strength faded: it did not hold).
 """
 
 from __future__ import annotations
@@ -36,6 +37,7 @@ class ProofPull:
         self.force, self.start, self.ramp = spec.proof_pull, spec.landing_end, proto.proof_ramp
         self.sensor = spec.platform.sensor
         self.from_press = math.nan  # N: the compression the sensor read when the pull began
+        self.from_share = math.nan  # the pad's bonded share when the pull began
         self.integral = 0.0
         self.peak = 0.0  # N: the largest tension the sensor has read in the pull
         self.let_go = False
@@ -46,18 +48,19 @@ class ProofPull:
         return min(self.peak, self.force) if self.let_go else self.force
 
     def __call__(self, t: float, q: Array, qd: Array, h: float, bonded_share: float) -> bool:
-        """One step of the pull from ``t``; False once a tenth of the pad has let go."""
+        """One step of the pull from ``t``; False once a further tenth of the pad has let go."""
         z = self.plate_index + 1
         tension = self.sensor.stiffness * q[z] + self.sensor.damping * qd[z]
         self.peak = max(self.peak, float(tension))
-        if bonded_share < 1.0 - LET_GO:
-            self.let_go = True
-            return False
         if math.isnan(self.from_press):
             # the loop takes over from the landing's press depth where it stands, without a jump
-            self.from_press = -float(tension)
+            self.from_press, self.from_share = -float(tension), bonded_share
             depth = float(self.p.press_depth.Evaluate())
             self.integral = depth - self.from_press / self.p.series_stiffness
+        if bonded_share < self.from_share - LET_GO or bonded_share <= LET_GO:
+            # (a landing that bonded no more than a tenth has nothing to hold with)
+            self.let_go = True
+            return False
         u = min((t - self.start) / self.ramp, 1.0)
         target = self.from_press - (self.from_press + self.force) * float(min_jerk(u)[0])
         self.integral = press_control(self.p, self.plate_index, q, qd, h, target, self.integral)

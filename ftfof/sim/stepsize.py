@@ -30,9 +30,6 @@ FLIGHT_HEIGHT = 0.003  # m
 FLIGHT_LOOKAHEAD = 10.0
 FLIGHT_AFTER_SWITCH = 0.07  # s
 LANDING_FINE = 0.05  # s
-# the proof hold: from this long after the pull is reached, while no bond is near its break (a pad
-# that lets go in the hold does so as its bonds' rate factors decay, within 0.2 s of the ramp)
-PROOF_FINE = 0.2  # s
 PHASE_EPS = 1e-9  # s: a step that ends this close after a phase's end ends in that phase
 
 
@@ -51,8 +48,8 @@ class StepSize:
         self.t_press_end = protocol.settle + protocol.press
         self.t0 = spec.trajectory_start
         self.t_land = self.t0 + spec.trajectory.duration
-        self.t_proof = spec.landing_end
-        self.t_proof_hold = spec.landing_end + protocol.proof_ramp
+        # the proof pull's start; none: the landing hold runs to the end
+        self.t_proof = spec.landing_end if spec.proof_pull is not None else math.inf
         self.switched_at = math.nan
         self.mode = ""
         self.step = spec.solver.step
@@ -74,21 +71,18 @@ class StepSize:
             return "flight" if t >= self.switched_at + FLIGHT_AFTER_SWITCH else None
         if t < self.t_proof:
             return "landing_hold" if t >= self.t_land + LANDING_FINE else None
-        return "proof_hold" if t >= self.t_proof_hold + PROOF_FINE else None
+        return None  # the proof pull: its pad is loaded toward its break all along
 
-    def _next_step(self, t: float, qd: Array, n_bonded: int, lowest: float, load: float) -> float:
+    def _next_step(self, t: float, qd: Array, n_bonded: int, lowest: float) -> float:
         """The step from ``t``: its phase's step where it ends in a phase whose step is at least
-        as long, in the flight nothing sharp can happen within it (no bond, the film clear of
-        the plate at its closing speed) and in the proof hold no bond is near its break (``load``,
-        the largest bond's opening over its elastic limit); ``step`` otherwise."""
+        as long, and in the flight nothing sharp can happen within it (no bond, the film clear of
+        the plate at its closing speed); ``step`` otherwise."""
         first = self._phase(t)
         h = self.phase_steps.get(first, self.step)  # type: ignore[arg-type]
         if h == self.step:
             return h
         last = self._phase(t + h - PHASE_EPS)
         if self.phase_steps.get(last, self.step) < h:  # type: ignore[arg-type]
-            return self.step
-        if first == "proof_hold" and load > NEAR_BREAK:
             return self.step
         if "flight" in (first, last):
             z = self.pad.node_index + 1

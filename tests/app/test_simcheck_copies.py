@@ -52,11 +52,12 @@ def test_copies_are_simulated_only_for_rows_whose_nominal_run_passed(
     policy = m3f.policy
     middle = policy.expand(0.5 * (policy.lower + policy.upper))[0]
     rows = np.array([PUBLISHED_M3F, middle])
-    # Pf's nominal run shakes the body 8.9 m/s2, above the plate foot's 6.1 m/s2 limit
+    # Pf's nominal landed pad lets a tenth go at 4.1 N of the proof pull's 6.6 N (and its run
+    # shakes the body 8.9 m/s2, above the plate foot's 6.1 m/s2 limit: told after the hold)
     verdicts = simulator_check(params, m3f)([7, 8], rows)
     assert (
         not verdicts[0].ok
-        and "the body shook" in verdicts[0].reason
+        and "the landed pad let a tenth go" in verdicts[0].reason
         and "copy" not in verdicts[0].reason
     )
     nominal_passed = [v.ok or "(copy " in v.reason for v in verdicts]

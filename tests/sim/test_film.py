@@ -197,10 +197,10 @@ def test_the_simulator_check_refuses_a_swing_that_drags_its_pad_and_pf_for_its_f
     # Pf bends the film to 4.8 mm: below fc = 6 mm, refused for it alone
     (bent,) = simulator_check(params, on(grip))([0], PUBLISHED[None])
     assert not bent.ok and bent.reason.startswith("film bent to 4.7"), bent.reason
-    # the release rule here, with a film limit Pf keeps (4 mm) and no body limit; the body rule
-    # on its own below
+    # the release rule here, with a film limit Pf keeps (4 mm), no body limit and no proof pull
+    # (the grip re-bonds a sixth of its pad); the body rule on its own below
     foot = grip.foot.model_copy(update={"film_min_bend_radius": 0.004})
-    free = on(grip.model_copy(update={"body_acc_limit": None, "foot": foot}))
+    free = on(grip.model_copy(update={"body_acc_limit": None, "foot": foot, "proof": None}))
     check = simulator_check(params, free)
     dragged, published = check([14, 0], np.array([LOW_SWING, PUBLISHED]))
     assert dragged.row == 14 and published.row == 0  # in the order asked, whatever finished first

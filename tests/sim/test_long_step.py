@@ -33,7 +33,8 @@ def test_phase_steps_need_one_step_elsewhere():
 
 
 def _specs(params, schedule):
-    b = bench(params, solver={"phase_steps": schedule})
+    """The step's phases, without the proof pull after it (it takes the step throughout)."""
+    b = bench(params, solver={"phase_steps": schedule}, robot={"proof": None})
     poly = Polynomial(np.array([0.12, 0.0]), params.baselines.lift_height, 1.0)
     return [b.analytic("poly", 0, poly), b.bezier("pf", 0, PUBLISHED)]
 
@@ -51,9 +52,9 @@ class _Logged(prestep.PreStep):
         self.log.append((t, h, int((~st.broken).sum()), active, self._lowest, self.switched_at))
         return go
 
-    def _next_step(self, t, qd, n_bonded, lowest, load):
+    def _next_step(self, t, qd, n_bonded, lowest):
         self._lowest = lowest
-        return super()._next_step(t, qd, n_bonded, lowest, load)
+        return super()._next_step(t, qd, n_bonded, lowest)
 
     def _control_step(self, t, lam_max, lowest):
         self._lowest = lowest

@@ -34,14 +34,16 @@ def test_f_proof_is_the_fore_stance_demand_times_the_safety_factor(params, polyn
 
 def test_the_pull_leaves_the_step_s_record_and_figures_as_they_were(polynomial):
     """The proof pull runs after the landing hold: the channels still end there, and every
-    figure of the step before it is the run's without the pull (to the bit up to the last
-    sample, which the solver reaches by another step when the run goes on past it: within 1e-6 of the
-    channel's range)."""
+    figure of the step before it is the run's without the pull (to the bit up to the landing
+    hold's last long step, 2 ms: the run that goes on takes the step there, not a long one; the
+    last samples within 1e-5 of the channel's range)."""
     pulled, plain = simulate(polynomial), simulate(replace(polynomial, proof_pull=None))
     assert pulled.ok and plain.ok
+    t = plain.channels["t"]
+    early = t < t[-1] - 2 * polynomial.solver.phase_steps["landing_hold"]
     for name, values in plain.channels.items():
-        np.testing.assert_array_equal(pulled.channels[name][:-1], values[:-1], err_msg=name)
-        scale = 1e-6 * max(float(np.abs(values).max()), 1e-3)
+        np.testing.assert_array_equal(pulled.channels[name][early], values[early], err_msg=name)
+        scale = 1e-5 * max(float(np.abs(values).max()), 1e-3)
         np.testing.assert_allclose(pulled.channels[name], values, rtol=0, atol=scale, err_msg=name)
     for name in ("peak_detachment", "peak_pull", "landing_pre_pressure", "peak_body_acc"):
         assert pulled.scalars[name] == pytest.approx(plain.scalars[name], rel=1e-6)

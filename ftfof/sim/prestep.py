@@ -69,7 +69,7 @@ class PreStep(StepSize):
         elif self.proof is not None and t > self.t_proof:
             h = self.solver.it.currentStepSize
             if not self.proof(t, q, qd, h, self.pad.bonded_share):
-                return False  # a tenth of the pad let go: the test ends (not a failure)
+                return False  # a further tenth of the pad let go: the test ends, no failure
         if self.p.leg_update is not None:
             self.p.leg_update(t)
         if (
@@ -100,7 +100,7 @@ class PreStep(StepSize):
 
     @property
     def proof_let_go(self) -> bool:
-        """The proof pull ended the run: a tenth of the pad let go (the test's end, no failure)."""
+        """The proof pull ended the run: a further tenth of the pad let go (no failure)."""
         return self.proof is not None and self.proof.let_go
 
     def _stop(self, reason: FailureReason, message: str) -> bool:

@@ -1,7 +1,7 @@
 """What a climbing robot's stance foot must hold on the wall, from its climber preset alone.
 
 The climbing simulation (:mod:`ftfof.climb`) builds its robot from these masses, and the platform
-tests a landed pad against the same demand (the proof pull, :mod:`ftfof.sim.prestep`), so both
+tests a landed pad against the same demand (the proof pull, :mod:`ftfof.sim.proof`), so both
 read one formula (decision 0019).
 """
 

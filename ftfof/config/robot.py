@@ -275,7 +275,8 @@ class Climber(Strict):
 class Proof(Strict):
     """The proof pull (issue 53): after the landing hold the platform pulls the landed pad at its
     ankle to F_proof, the robot's fore stance demand a + m g h / L times ``safety_factor``
-    (:func:`ftfof.demand.proof_pull`); a landing whose pad lets 10 % go first is refused."""
+    (:func:`ftfof.demand.proof_pull`); with ``refuse``, a landing whose pad lets a further tenth
+    go first is refused."""
 
     safety_factor: PositiveFloat
     # whether a landing that does not hold F_proof is refused wherever the robot's rules apply

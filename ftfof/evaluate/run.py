@@ -201,7 +201,8 @@ def _finite(value: float) -> float | None:
 
 def run_faults(row: pd.Series, figures: dict[str, float], rules: FootRules) -> Faults:
     """What in one simulated run (an acquisition row, its ``figures``) a real foot could not
-    run: the film, the release, the landing and the body's shake under ``rules``."""
+    run: the film, the release, the landing, the proof pull's hold and the body's shake under
+    ``rules``."""
     return foot_faults(
         np.asarray(row.t, dtype=float),
         np.asarray(row.bonds, dtype=float),

@@ -63,7 +63,8 @@ def simulator_check(
     those runs) from the simulated forces (binned as the surrogate's targets). A row passes when
     every run of it passes: the run succeeds, the robot's rules hold (:mod:`ftfof.data.faults`:
     the pad lets go cleanly, the film stays at or above its safety limit, the landing presses
-    within the robot's tolerance of a, the body shakes no harder than the robot's limit) and
+    within the robot's tolerance of a, the landed pad holds the proof pull where the robot asks
+    for it, the body shakes no harder than the robot's limit) and
     every objective is finite."""
     force_t = targets.time_base(ctx.policy.timing.T3, dataset.hold, dataset.seq_len)
     return _Check(on, ctx, cfg, dataset.hold, force_t, search_seed, workers)

@@ -20,7 +20,7 @@ import numpy as np
 from ftfof.sim.bonds import BondLaw
 from ftfof.sim.model import Platform, build
 from ftfof.sim.padstate import PadTracker
-from ftfof.sim.press import press_control
+from ftfof.sim.press import press_control, sensor_tension
 from ftfof.sim.settings import solver_settings
 from ftfof.sim.spec import SampleSpec
 from ftfof.trajectory.bezier import Samples
@@ -91,8 +91,7 @@ class _HoldStep:
                 self.start_z = float(q[self.foot + 1])
             self.least = min(self.least, step.bonded / len(self.p.film_nodes))
             sensor = self.p.spec.platform.sensor
-            plate = self.pad.plate_index + 1
-            self.tension.append(sensor.stiffness * q[plate] + sensor.damping * qd[plate])
+            self.tension.append(sensor_tension(sensor, self.pad.plate_index, q, qd))
         return bool(np.isfinite(q).all())
 
 

@@ -50,5 +50,12 @@ def press_integral(
     ``sensor`` under the plate at ``plate_index`` reads to ``target`` (N, compression positive)
     through a press path of ``stiffness`` (N/m). The platform's press and the climbing robot's
     landing press share it."""
-    compression = -(sensor.stiffness * q[plate_index + 1] + sensor.damping * qd[plate_index + 1])
+    compression = -sensor_tension(sensor, plate_index, q, qd)
     return integral + (target - compression) / stiffness * min(h / PRESS_TIME_CONSTANT, 1.0)
+
+
+def sensor_tension(sensor: Sensor, plate_index: int, q: Array, qd: Array) -> float:
+    """The force ``sensor`` reads under the plate at ``plate_index`` (N, tension positive): its
+    spring and damper on the plate's normal coordinate."""
+    z = plate_index + 1
+    return float(sensor.stiffness * q[z] + sensor.damping * qd[z])

@@ -19,11 +19,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ftfof.sim.model import Platform
-from ftfof.sim.press import press_control
+from ftfof.sim.press import press_control, sensor_tension
 from ftfof.trajectory.blend import min_jerk
 
 Array = NDArray[np.float64]
-LET_GO = 0.1  # the share of the pad whose loss ends the test: it did not hold
+LET_GO = 0.1  # the share of the landed pad whose loss ends the test: it did not hold
+REACHED = 0.98  # of F_proof: the sensor read the pull (the loop settles in 10 ms of a 0.5 s hold)
 
 
 class ProofPull:
@@ -41,23 +42,34 @@ class ProofPull:
         self.integral = 0.0
         self.peak = 0.0  # N: the largest tension the sensor has read in the pull
         self.let_go = False
+        self.lost = False  # the run failed inside the pull before it was judged
+
+    @property
+    def started(self) -> bool:
+        """The pull has begun: the landing hold's record is whole."""
+        return not math.isnan(self.from_press)
+
+    @property
+    def held(self) -> bool:
+        """The pad bore F_proof to the end without letting a further tenth go (call it once the
+        run has reached its end)."""
+        return not self.let_go and self.peak >= REACHED * self.force
 
     @property
     def held_pull(self) -> float:
         """The largest pull the pad bore before a tenth of it let go, at most F_proof (N)."""
-        return min(self.peak, self.force) if self.let_go else self.force
+        return self.force if self.held else min(self.peak, self.force)
 
     def __call__(self, t: float, q: Array, qd: Array, h: float, bonded_share: float) -> bool:
         """One step of the pull from ``t``; False once a further tenth of the pad has let go."""
-        z = self.plate_index + 1
-        tension = self.sensor.stiffness * q[z] + self.sensor.damping * qd[z]
-        self.peak = max(self.peak, float(tension))
-        if math.isnan(self.from_press):
+        tension = sensor_tension(self.sensor, self.plate_index, q, qd)
+        self.peak = max(self.peak, tension)
+        if not self.started:
             # the loop takes over from the landing's press depth where it stands, without a jump
-            self.from_press, self.from_share = -float(tension), bonded_share
+            self.from_press, self.from_share = -tension, bonded_share
             depth = float(self.p.press_depth.Evaluate())
             self.integral = depth - self.from_press / self.p.series_stiffness
-        if bonded_share < self.from_share - LET_GO or bonded_share <= LET_GO:
+        if bonded_share < (1.0 - LET_GO) * self.from_share or self.from_share <= LET_GO:
             # (a landing that bonded no more than a tenth has nothing to hold with)
             self.let_go = True
             return False

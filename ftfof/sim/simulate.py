@@ -40,7 +40,8 @@ def simulate(spec: SampleSpec, idle_bonds: bool = True) -> SampleResult:
     A solver failure (with the mixed 500 µs / 2 ms steps, about 1 % of random trajectories,
     after the release, when the free film flew on 2 ms steps) is retried once with a tighter
     tolerance and both steps halved, so a run at one step stays at one step; ``retries``
-    records it. Running out of time budget is not retried.
+    records it. Running out of time budget is not retried. A run that fails inside the proof
+    pull keeps its step, whole up to the landing hold's end: ok, its pull not measured (NaN).
 
     ``idle_bonds`` switches off the connectors of broken bonds while their node is clear of the
     plate (:func:`ftfof.sim.bonds.idle_changes`): they pull nothing there, but cost about half
@@ -88,6 +89,9 @@ def _simulate_once(spec: SampleSpec, idle_bonds: bool) -> SampleResult:
     elif reason is None and end < spec.end_time - 1e-9 and not run.proof_let_go:
         reason = FailureReason.STOPPED_EARLY
         error = f"stopped early at t = {end:.4f} s of {spec.end_time:.4f} s"
+    if reason is not None and run.proof is not None and run.proof.started:
+        # the step's record ended with the landing hold, whole: only the pull is lost (NaN)
+        run.proof.lost, reason, error = True, None, ""
     channels = _channels(platform, run)
     if reason is None and not all(np.isfinite(c).all() for c in channels.values()):
         reason, error = FailureReason.NON_FINITE_SENSOR, "non-finite sensor values"
@@ -225,15 +229,17 @@ def summarize(result: SampleResult, run: PreStep, spec: SampleSpec) -> dict[str,
 def _proof_figures(run: PreStep, spec: SampleSpec) -> dict[str, float]:
     """The landing's re-bond and its proof pull (:mod:`ftfof.sim.proof`): the bonded share of
     the pad's area when the landing hold ended, the pull it held and whether it held F_proof to
-    the end (1 or 0; NaN: no proof pull, or the run did not reach it)."""
+    the end (1 or 0; NaN: no proof pull, a run that never reached it or failed in it)."""
     area = run.pad.parts.area
     times = np.array([entry[0] for entry in run.bond_log])
     at_end = run.bonded_log[int(np.searchsorted(times, spec.landing_end, side="right")) - 1]
-    proof = run.proof
-    reached = proof is not None and not math.isnan(proof.from_press)
-    return {
+    out = {
         "rebond_fraction": float(area[at_end].sum() / area.sum()),
         "proof_pull": math.nan if spec.proof_pull is None else spec.proof_pull,
-        "held_pull": proof.held_pull if reached else math.nan,  # type: ignore[union-attr]
-        "proof_held": float(not proof.let_go) if reached else math.nan,  # type: ignore[union-attr]
+        "held_pull": math.nan,
+        "proof_held": math.nan,
     }
+    proof = run.proof
+    if proof is not None and proof.started and not proof.lost:
+        out |= {"held_pull": proof.held_pull, "proof_held": float(proof.held)}
+    return out

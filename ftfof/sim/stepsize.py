@@ -111,7 +111,8 @@ class StepSize:
         landing = (
             not math.isnan(self.switched_at) and lowest < LANDING_WINDOW and t < self.t_land + 0.05
         )
-        small = detaching or landing or t < self.pad.last_break + PEEL_TAIL
+        pulled = t > self.t_proof  # the proof pull loads the pad toward its break all along
+        small = detaching or landing or pulled or t < self.pad.last_break + PEEL_TAIL
         mode = "small" if small else "free"
         solver = self.settings
         it = self.solver.it

@@ -63,3 +63,24 @@ def test_a_light_proof_holds_and_a_heavy_one_stops_at_the_tenth_let_go(polynomia
     assert heavy.ok and heavy.scalars["proof_held"] == 0.0
     assert 0.5 * demand < heavy.scalars["held_pull"] < 2.0 * demand
     assert heavy.wall_time < light.wall_time  # it stopped at the let-go
+
+
+def test_a_run_that_fails_in_the_pull_keeps_its_step_and_measures_no_pull(polynomial, monkeypatch):
+    """The pull comes after the step's record: a solver failure inside it costs the pull's
+    figures (NaN: the hold rule calls that not measured), not the step, and is not retried."""
+    from ftfof.sim import proof
+
+    pull = proof.ProofPull.__call__
+
+    def failing(self, t, *args):
+        if t > self.start + 0.05:
+            raise RuntimeError("the solver gave up")
+        return pull(self, t, *args)
+
+    monkeypatch.setattr(proof.ProofPull, "__call__", failing)
+    result = simulate(polynomial)
+    assert result.ok and result.scalars["retries"] == 0.0
+    assert np.isnan(result.scalars["held_pull"]) and np.isnan(result.scalars["proof_held"])
+    assert result.channels["t"][-1] == pytest.approx(
+        polynomial.landing_end - polynomial.trajectory_start
+    )

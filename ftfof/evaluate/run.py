@@ -311,7 +311,8 @@ def metrics(
         out = {}
         for c in row.values:
             out[c] = round(row.values[c], 4)
-            out[f"{c}_change"] = round(row.change[c], 2)
+            if np.isfinite(row.change[c]):  # JSON has no NaN: no change from a reference of 0
+                out[f"{c}_change"] = round(row.change[c], 2)
         return out
 
     paper = {r.trajectory: r for r in table_one(PAPER_TABLE_I, "polynomial")}["optimal"]

@@ -72,8 +72,15 @@ def figures_of(row: pd.Series, T3: float) -> dict[str, float]:
 def table_rows(df: pd.DataFrame, reference: str, T3: float) -> list[TableRow]:
     """The Table I analogue, with the foot's pull and film figures, against ``reference``."""
     peaks = {name: figures_of(row, T3) for name, row in compared(df, reference).items()}
-    landed = all(np.isfinite(f[c]) for f in peaks.values() for c, _, _ in LANDED)
-    return table_one(peaks, reference, COLUMNS + LANDED if landed else COLUMNS)
+    rows = table_one(peaks, reference, COLUMNS)
+    if all(np.isfinite(f[c]) for f in peaks.values() for c, _, _ in LANDED):
+        base = peaks[reference]
+        for row in rows:  # a landing can hold nothing: no % change from a reference of 0
+            for c, _, _ in LANDED:
+                value = peaks[row.trajectory][c]
+                row.values[c] = value
+                row.change[c] = 100.0 * (value - base[c]) / base[c] if base[c] > 0 else np.nan
+    return rows
 
 
 def simulated_rows(df: pd.DataFrame) -> pd.DataFrame:

@@ -63,13 +63,20 @@ def _column(key: str) -> dict[str, Any]:
 def tables(
     rows: list[TableRow], reference: str, a: float, breaks: dict[str, list[str]]
 ) -> list[dict[str, Any]]:
-    """Table I in two tables, the paper's columns first, each cell with its change against the
-    ``reference`` and its colour; ``a`` is the robot's optimal pre-pressure; each row says
-    whether the robot can run it (``breaks``: the rules it breaks, where it was judged)."""
+    """Table I in two tables, the paper's columns first, and a third for the landing where the
+    robot has a proof pull, each cell with its change against the ``reference`` and its colour;
+    ``a`` is the robot's optimal pre-pressure; each row says whether the robot can run it
+    (``breaks``: the rules it breaks, where it was judged)."""
     ref = next(r for r in rows if r.trajectory == reference)
-    other = [c for c in ref.values if c not in PAPER]
+    landed = [c for c, _, _ in LANDED if c in ref.values]
+    foot = [c for c in ref.values if c not in PAPER and c not in landed]
     out = []
-    for title, keys in (("Table I: the paper's figures", PAPER), ("The foot and the film", other)):
+    sections = (
+        ("Table I: the paper's figures", PAPER),
+        ("The foot and the film", foot),
+        ("The landed pad: its re-bond and the proof pull it held", landed),
+    )
+    for title, keys in (s for s in sections if s[1]):
         columns = [_column(k) for k in keys]
         body = []
         for row in rows:
@@ -107,7 +114,8 @@ def run_this(
             continue
         column = _column(key)
         value = optimum.values[key]
-        vs_paper = None if paper is None else 100.0 * (value / paper.values[key] - 1.0)
+        known = paper is not None and paper.values[key] > 0
+        vs_paper = 100.0 * (value / paper.values[key] - 1.0) if known else None
         figures.append(
             {
                 **column,

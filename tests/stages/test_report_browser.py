@@ -44,9 +44,10 @@ window.addEventListener("load", () => {
 
 
 def test_the_first_screen_fits_1280_px_and_says_what_to_run(evaluated, tmp_path):
-    """At 1280 px both Table I tables (the paper's figures; the foot and the film, 13 columns)
-    and every other table need no horizontal scroll, and the run-this box holds the chosen
-    control points and the export command (laid out by headless Chromium)."""
+    """At 1280 px the three Table I tables (the paper's figures; the foot and the film, 13
+    columns; the landed pad) and every other table need no horizontal scroll, and the run-this
+    box holds the chosen control points and the export command (laid out by headless
+    Chromium)."""
     work, *_ = evaluated
     html = (work / "report.html").read_text()
     probe = tmp_path / "probe.html"
@@ -62,7 +63,7 @@ def test_the_first_screen_fits_1280_px_and_says_what_to_run(evaluated, tmp_path)
         check=True, capture_output=True, text=True, timeout=120,
     ).stdout  # fmt: skip
     body = re.search(r"<body[^>]*>", dom).group(0)
-    assert 'data-table-one-tables="2"' in body and 'data-table-overflow="false"' in body
+    assert 'data-table-one-tables="3"' in body and 'data-table-overflow="false"' in body
     assert 'data-cut-tables=""' in body and 'data-page-overflow="false"' in body
     box = dom[dom.index('class="run-this"') : dom.index("Table I analogue")]
     assert all(f"<td>P{n}</td>" in box for n in (3, 4, 5, 10, 11, 12))

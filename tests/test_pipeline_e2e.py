@@ -255,6 +255,24 @@ def test_a_queued_sweep_runs_in_parallel_workers_and_compares(repo):
     # -j 2`; the workers run in temporary copies under .dvc/tmp and here see no
     # MLFLOW_TRACKING_URI: their runs must still land in the repository's own store. The painted
     # wall: MST-Q's straight-up peel keeps fc there (on acrylic and glass no path of it does)
+    # Two settings for the painted wall, committed before the sweep: no MST-M3F landing there
+    # holds its 6.6 N proof pull (the best of the tiny set 4.1 N), so its pull is measured, not a
+    # rule; and the tiny MST-Q's GRU predicts its swing 14-16 mm high where the simulator
+    # measures 25-47 mm (19 mm required), so a peak GP sets the clearance (the GRU before the
+    # holds target reached it on the default seed only, of four; with it, on none of twelve)
+    params = repo / "params.yaml"
+    text = params.read_text()
+    for old, new in (
+        ("    proof: {safety_factor: 1.0}\n", "    proof: {safety_factor: 1.0, refuse: false}\n"),
+        (
+            "  peaks: [Fp, jitter, retouch, curvature, holds]",
+            "  peaks: [Fp, jitter, retouch, curvature, holds, clearance]",
+        ),
+    ):
+        assert old in text
+        text = text.replace(old, new)
+    params.write_text(text)
+    run(repo, "git", "commit", "-q", "-am", "the painted wall's settings")
     sweep = ("sweep", "robots=mst_q,mst_m3f", "surfaces=painted_wall", "--jobs", "2", "--poll", "2")
     out = run(repo, "python", "-m", "ftfof", *sweep, timeout=1500, unset=("MLFLOW_TRACKING_URI",))
     assert (

@@ -98,6 +98,8 @@ SUMMARIZED = (
     "peak_body_acc",
     "min_bend_radius",
     "max_clearance",
+    "held_pull",
+    "proof_held",
 )
 
 # In-progress parts also carry each sample's wall time; the final table leaves it out so that
@@ -203,6 +205,7 @@ def summarize(
 
     def stats(col: str) -> dict[str, float]:
         v = sampled[col].to_numpy()
+        v = v[~np.isnan(v)]  # a figure not measured (no proof pull): no statistic
         if not len(v):
             return {}
         return {
@@ -231,6 +234,13 @@ def summarize(
         # fraction of the sampled set whose pad never rose foot.swing_clearance above the wall
         "pad_below_swing_clearance": below("max_clearance", clearance),
         "max_clearance": stats("max_clearance"),
+        # the proof pull: the fraction of the sampled landings that held F_proof (None: no pull)
+        "holds_fraction": (
+            round(float((sampled.proof_held == 1.0).mean()), 4)
+            if len(sampled) and sampled.proof_held.notna().all()
+            else None
+        ),
+        "held_pull": stats("held_pull"),
         "baselines": _baseline_figures(ok),
     }
 

@@ -151,12 +151,15 @@ def _none_feasible(
         for name, g in least.physical.items()
         if g[0] > 0
     ]
+    hint = "try optimize.seeded_start: true or more generations; a physical limit the surrogate "
+    hint += "predicts nowhere met needs a surrogate trained on more data"
+    if least.physical.get("pad_holds", [0.0])[0] > 0:  # no acquired landing may hold F_proof
+        hint += f"; where reports/acquire.json's holds_fraction is 0, lower robots.{policy.name}"
+        hint += ".proof.safety_factor or set its refuse: false"
     return OptimizationError(
         "optimize",
         f"no feasible trajectory after {result.generations} generations; the least "
-        f"infeasible violates {'; '.join(worst[:3])} (try optimize.seeded_start: true or "
-        "more generations; a physical limit the surrogate predicts nowhere met needs a "
-        "surrogate trained on more data)",
+        f"infeasible violates {'; '.join(worst[:3])} ({hint})",
     )
 
 

@@ -27,8 +27,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from ftfof.climb.control.com_step import Foothold, Step
 from ftfof.climb.control.cones import InfeasibleStepError
 from ftfof.climb.control.planner import feasible_interval, plan_step, replan_swing
-from ftfof.demand import robot_mass
 from ftfof.climb.simulate import chain_of
+from ftfof.demand import robot_mass
 from ftfof.pipeline.params_file import load_params
 
 ROOT = Path(__file__).resolve().parents[1]

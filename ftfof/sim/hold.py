@@ -20,7 +20,8 @@ import numpy as np
 from ftfof.sim.bonds import BondLaw
 from ftfof.sim.model import Platform, build
 from ftfof.sim.padstate import PadTracker
-from ftfof.sim.press import press_control, sensor_tension
+from ftfof.sim.press import press_control, press_to_pull, sensor_tension
+from ftfof.sim.proof import LET_GO
 from ftfof.sim.settings import solver_settings
 from ftfof.sim.spec import SampleSpec
 from ftfof.trajectory.bezier import Samples
@@ -40,7 +41,7 @@ class Hold:
     @property
     def held(self) -> bool:
         """The pad held: at least 90 % of it stayed bonded (the proof pull's line, issue 53)."""
-        return self.least_bonded >= 0.9
+        return self.least_bonded >= 1.0 - LET_GO
 
 
 def at_rest(duration: float) -> PiecewiseQuintic:
@@ -76,7 +77,7 @@ class _HoldStep:
         if t < self.pressed:
             return a * float(min_jerk((t - self.settle) / self.press)[0])
         u = min((t - self.pressed) / (self.loaded - self.pressed), 1.0)
-        return a - (a + self.pull) * float(min_jerk(u)[0])
+        return press_to_pull(a, self.pull, u)
 
     def __call__(self, mbs, t: float) -> bool:
         q = self.data.GetODE2Coordinates(copy=False)

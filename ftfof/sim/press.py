@@ -11,6 +11,7 @@ from numpy.typing import NDArray
 
 from ftfof.config import Sensor
 from ftfof.sim.model import Platform
+from ftfof.trajectory.blend import min_jerk
 
 Array = NDArray[np.float64]
 PRESS_TIME_CONSTANT = 0.01  # s, integral action of the pre-pressure loop
@@ -52,6 +53,12 @@ def press_integral(
     landing press share it."""
     compression = -sensor_tension(sensor, plate_index, q, qd)
     return integral + (target - compression) / stiffness * min(h / PRESS_TIME_CONSTANT, 1.0)
+
+
+def press_to_pull(press: float, pull: float, u: float) -> float:
+    """The press loop's target at ``u`` of a minimum-jerk move from a press (N) to a pull (N,
+    tension positive): the hold test's and the proof pull's ramp."""
+    return press - (press + pull) * float(min_jerk(u)[0])
 
 
 def sensor_tension(sensor: Sensor, plate_index: int, q: Array, qd: Array) -> float:

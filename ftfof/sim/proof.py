@@ -19,8 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ftfof.sim.model import Platform
-from ftfof.sim.press import press_control, sensor_tension
-from ftfof.trajectory.blend import min_jerk
+from ftfof.sim.press import press_control, press_to_pull, sensor_tension
 
 Array = NDArray[np.float64]
 LET_GO = 0.1  # the share of the landed pad whose loss ends the test: it did not hold
@@ -74,6 +73,6 @@ class ProofPull:
             self.let_go = True
             return False
         u = min((t - self.start) / self.ramp, 1.0)
-        target = self.from_press - (self.from_press + self.force) * float(min_jerk(u)[0])
+        target = press_to_pull(self.from_press, self.force, u)
         self.integral = press_control(self.p, self.plate_index, q, qd, h, target, self.integral)
         return True

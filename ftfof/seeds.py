@@ -27,6 +27,7 @@ Stream = Literal[
     "verify",  # the perturbed copies of a simulator-checked candidate, one child per row
     "polish",  # NSGA-II on the simulator and the copies that fill its first population
     "climb",  # the climbing robot's IMU noise
+    "repeat",  # evaluate's repeatability runs of the front members, one child per row
 ]
 STREAMS: tuple[Stream, ...] = get_args(Stream)
 

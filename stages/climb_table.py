@@ -29,14 +29,16 @@ def command(
     workers: Annotated[int | None, WorkersOption] = None,
 ) -> None:
     """Climb every Table I trajectory the robot's rules allow, and the optimum (evaluate.climb)."""
+    from ftfof.evaluate.table import MOVED, NOT_CLIMBED, climbs_of
     from ftfof.pipeline.climb import run_table
     from ftfof.pipeline.params_file import load_params
 
     climbed = run_table(load_params(params_path), optimize, out, record, workers)
-    for name, row in climbed.items():
-        if name != "not_climbed":
-            ended = f"FELL: {row['fall']}" if row["fell"] else "climbed"
-            console.print(f"  {name:16s} {row['steps_done']} steps, {ended}")
-    for name, why in climbed.get("not_climbed", {}).items():
+    for name, row in climbs_of(climbed).items():
+        ended = f"FELL: {row['fall']}" if row["fell"] else "climbed"
+        console.print(f"  {name:16s} {row['steps_done']} steps, {ended}")
+    for name, why in climbed.get(NOT_CLIMBED, {}).items():
         console.print(f"  {name:16s} not climbed: {why}")
+    if MOVED in climbed:
+        console.print(f"  [yellow]{climbed[MOVED]['why']}")
     console.print(f"-> {record}")

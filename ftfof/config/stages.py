@@ -242,6 +242,10 @@ class Evaluate(Strict):
     # film elements: the optimum, the front members and Table I's trajectories are simulated
     # again on this many, to show the film's bend converged where fc is judged (null: not)
     check_nodes: Annotated[int, Field(ge=4)] | None = 80
+    # the fidelity's members simulated twice more, every control value off by
+    # optimize.verify_repeatability: the rank correlation of the two runs bounds what any
+    # surrogate can reach (docs/pipeline.md, "evaluate"); false: not
+    repeat_front: bool = True
     # the climbing robot climbs Table I's trajectories the robot can run (docs/climb.md);
     # false, or a robot without a climber block: not
     climb: bool = True
@@ -266,6 +270,9 @@ class Climb(Strict):
     imu_gyro_noise: NonNegativeFloat = 0.0  # rad/s
     imu_gyro_bias: float = 0.0  # rad/s
     time_budget: PositiveFloat = 300.0  # wall seconds per climb before it is stopped as failed
+    # where the optimum falls, the climb stage tries the next candidates by RHS's order, at most
+    # this many, one at a time; the first that climbs is exported (docs/climb.md); 0: none
+    fallbacks: NonNegativeInt = 3
     surface_change: SurfaceChange | None = None  # null: every pad on the selected surface
     # the stance feet's force control (docs/climb.md, "Slip"); null: none, the joint PD alone
     controller: Controller | None = None

@@ -10,7 +10,7 @@ the best of each objective was from the trajectory that was chosen.
 from __future__ import annotations
 
 from collections import Counter
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -78,6 +78,33 @@ def rhs_candidates(optimum: Mapping[str, Any], objectives: Sequence[str]) -> lis
         )
         for r in sorted(rows)
     ]
+
+
+def fallback_order(candidates: Sequence[Candidate]) -> list[int]:
+    """The rows of the candidates after the chosen one, by RHS's order: the later a visit
+    removed a candidate, the closer it came to the choice (a tie-break's before any visit's);
+    within one visit, the lower mean of the objective that cut it (the first where none did)."""
+
+    def closeness(c: Candidate) -> tuple[int, float, int]:
+        objective = c.removed_by if c.removed_by in c.mean else next(iter(c.mean), "")
+        return -c.visit, c.mean.get(objective, np.inf), c.row
+
+    return [c.row for c in sorted((c for c in candidates if not c.chosen), key=closeness)]
+
+
+def first_that_climbs(
+    rows: Sequence[int], fall_of: Callable[[int], str | None]
+) -> tuple[int | None, list[dict[str, Any]]]:
+    """The first of ``rows`` whose climb does not fall (``fall_of``: how a row's climb fell,
+    None where it climbed), each climbed only once the one before it fell; None where every
+    one fell. With the rows that fell before it and how."""
+    tried: list[dict[str, Any]] = []
+    for row in rows:
+        fall = fall_of(row)
+        if fall is None:
+            return row, tried
+        tried.append({"row": row, "fall": fall})
+    return None, tried
 
 
 def choice_summary(candidates: Sequence[Candidate]) -> dict[str, Any]:

@@ -16,19 +16,19 @@ import pandas as pd
 
 from ftfof.config import Evaluate as EvaluateSettings
 from ftfof.config import Solver
-from ftfof.data.faults import Faults, foot_faults
 from ftfof.errors import DataError, SimulationError
 from ftfof.evaluate.choice import Candidate, choice_summary, rhs_candidates
 from ftfof.evaluate.export import ControllerTrajectory, ExportRateError, controller_trajectory
 from ftfof.evaluate.feasible import reference_for
 from ftfof.evaluate.fidelity import Fidelity, fidelity, simulated_objectives
 from ftfof.evaluate.film_check import FilmCheck
+from ftfof.evaluate.members import judged_front, rounded
+from ftfof.evaluate.repeat import repeatability
 from ftfof.evaluate.runs import (
     OPTIMUM,
     PAPER_OPTIMUM,
     channels,
     compared,
-    figures_of,
     ok_rows,
     run_name,
     simulated_rows,
@@ -41,7 +41,6 @@ from ftfof.evaluate.table import PAPER_TABLE_I, PEAKS, TableRow, table_one
 from ftfof.kinematics.legs import build_leg
 from ftfof.optimize.select import FRONT
 from ftfof.robot import RobotContext
-from ftfof.rules import FootRules
 from ftfof.stats import rank_rho
 from ftfof.surrogate.predict import Surrogate
 from ftfof.trajectory.baselines import BezierTrajectory
@@ -71,6 +70,13 @@ def front_sample(inputs: Inputs, k: int) -> list[int]:
         return []
     picks = np.unique(np.round(np.linspace(0, rows.size - 1, min(k, rows.size))).astype(int))
     return [int(r) for r in rows[picks]]
+
+
+def fidelity_members(inputs: Inputs, front_rows: list[int]) -> dict[int, np.ndarray]:
+    """The decision vectors by front row of the runs the fidelity statistics measure: the
+    sampled ``front_rows``, and the optimum where it is a member of the front."""
+    rows = [inputs.optimum["front_row"]] if from_front(inputs) else []
+    return {row: decision(inputs, row) for row in [*rows, *front_rows]}
 
 
 def decision(inputs: Inputs, row: int) -> np.ndarray:
@@ -130,109 +136,6 @@ def checked_at_both_steps(
     return step_check(at_step, at_check, reference, step, cfg.check_step)
 
 
-def front_members(
-    df: pd.DataFrame, T3: float, rules: FootRules, films: FilmCheck | None = None
-) -> dict:
-    """The re-simulated optimum and front members side by side: what each trades (pull, jitter,
-    landing press), whether its film survives, its pad lets go and clears the wall, it lands
-    pressing within the robot's tolerance of a and the body shakes within the robot's limit
-    (``rules``, the simulator check's, with where the film limit comes from), so the
-    choice can be judged in simulation. With ``films``, each member's bend on the check film
-    too, and whether it keeps fc there."""
-    members = [
-        _member(row, T3, rules, films) for _, row in simulated_rows(df).iterrows()
-    ]  # a few tens of rows, once per evaluation
-
-    def fraction(key: str) -> float | None:
-        """Over every member; one without a verdict (no run on the check film) counts as not
-        verified."""
-        return round(float(np.mean([bool(m[key]) for m in members])), 4) if members else None
-
-    return {
-        "members": members,
-        "film_safe_fraction": fraction("film_safe"),
-        "film_safe_on_check_film_fraction": fraction("film_safe_on_check_film")
-        if films is not None
-        else None,
-        "lets_go_fraction": fraction("lets_go"),
-        "lands_fraction": fraction("lands"),
-        "holds_fraction": fraction("holds"),
-        "calm_fraction": fraction("calm"),
-        "clean_fraction": fraction("clean"),
-        "film_limit": rules.film.as_dict(),
-        "swing_clearance": rules.swing_clearance,
-        "landing_tolerance": rules.landing_tolerance,
-        "body_acc_limit": rules.body_acc_limit,
-        "proof_pull": rules.proof_pull,
-    }
-
-
-def _member(row: pd.Series, T3: float, rules: FootRules, films: FilmCheck | None) -> dict:
-    """One re-simulated run's figures and verdicts under ``rules`` (:func:`front_members`)."""
-    f = figures_of(row, T3)
-    faults = run_faults(row, f, rules)
-    return {
-        "row": int(row.sample_id),
-        "optimum": row.source == OPTIMUM,
-        "peak_pull": round(f["peak_pull"], 4),
-        "jitter": round(f["jitter"], 4),
-        "landing_pre_pressure_error": round(abs(f["landing_pre_pressure"] - rules.pre_pressure), 4),
-        "min_bend_radius": round(f["min_bend_radius"], 6),
-        "film_safe": not faults.film,
-        **_on_check_film(films, run_name(row.source, int(row.sample_id)), rules.film.fc),
-        "max_clearance": round(float(row.max_clearance), 6),
-        "lets_go": not faults.release,
-        "release_fault": faults.release,
-        "lands": not faults.landing,
-        "landing_fault": faults.landing,
-        "held_pull": _finite(f["held_pull"]),
-        "holds": not faults.hold,
-        "hold_fault": faults.hold,
-        "calm": not faults.shake,
-        "shake_fault": faults.shake,
-        "clean": faults.clean,  # a real foot could run it
-    }
-
-
-def _finite(value: float) -> float | None:
-    """``value`` to four decimals, or None where the run did not measure it (JSON has no NaN)."""
-    return round(value, 4) if np.isfinite(value) else None
-
-
-def run_faults(row: pd.Series, figures: dict[str, float], rules: FootRules) -> Faults:
-    """What in one simulated run (an acquisition row, its ``figures``) a real foot could not
-    run: the film, the release, the landing, the proof pull's hold and the body's shake under
-    ``rules``."""
-    return foot_faults(
-        np.asarray(row.t, dtype=float),
-        np.asarray(row.bonds, dtype=float),
-        np.asarray(row.Fp, dtype=float),
-        {
-            **figures,
-            "switch_time": float(row.switch_time),
-            "max_clearance": float(row.max_clearance),
-            "proof_held": float(row.get("proof_held", np.nan)),
-        },
-        rules,
-    )
-
-
-def _on_check_film(films: FilmCheck | None, name: str, fc: float) -> dict[str, Any]:
-    """A member's bend on the check film and whether it keeps fc there (None: no such run)."""
-    if films is None:
-        return {}
-    pair = films.pair(name)
-    return {
-        "min_bend_radius_on_check_film": None if pair is None else round(pair[1], 6),
-        "film_safe_on_check_film": None if pair is None else pair[1] >= fc,
-    }
-
-
-def judged_front(ctx: RobotContext, df: pd.DataFrame, films: FilmCheck | None = None) -> dict:
-    """:func:`front_members` with the robot's rules."""
-    return front_members(df, ctx.policy.timing.T3, ctx.rules, films)
-
-
 def fidelity_of(
     inputs: Inputs, df: pd.DataFrame, ctx: RobotContext, surrogate: Surrogate
 ) -> tuple[list[Fidelity], np.ndarray, np.ndarray]:
@@ -270,8 +173,8 @@ def hold_fidelity(inputs: Inputs, df: pd.DataFrame) -> dict[str, Any] | None:
     held = sims.proof_held.to_numpy(float)[measured] == 1.0
     return {
         "n": int(chance.size),
-        "spearman_held_pull": _finite(rank_rho(chance, held_pull)),
-        "verdict_agreement": _finite(float(np.mean((chance >= 0.5) == held))),
+        "spearman_held_pull": rounded(rank_rho(chance, held_pull)),
+        "verdict_agreement": rounded(float(np.mean((chance >= 0.5) == held))),
     }
 
 
@@ -280,9 +183,8 @@ def from_front(inputs: Inputs) -> bool:
     return inputs.optimum["origin"] == FRONT
 
 
-def export(ctx: RobotContext, inputs: Inputs, rate: float) -> ControllerTrajectory:
-    """The optimum as joint commands at ``rate`` Hz for the robot's controller."""
-    X = np.array([inputs.optimum["decision"][n] for n in DECISION_NAMES])
+def export(ctx: RobotContext, X: np.ndarray, rate: float) -> ControllerTrajectory:
+    """The decision row ``X`` as joint commands at ``rate`` Hz for the robot's controller."""
     try:
         trajectory = BezierTrajectory(ctx.policy, X)
         return controller_trajectory(
@@ -361,11 +263,14 @@ def evaluate(
     simulations: pd.DataFrame,
     surrogate: Surrogate,
     breaks: Mapping[str, list[str]],
+    exported: int | None = None,
 ) -> Evaluation:
     """Everything the report shows, from the re-simulations of the optimum, front and baselines
     (run with the acquisition's ``solver`` on ``surface``); ``breaks`` names the robot's rules
-    each Table I trajectory breaks, and the changes are taken against one the robot can run."""
-    at_step, fine, on_film = split_runs(simulations)
+    each Table I trajectory breaks, and the changes are taken against one the robot can run.
+    The export is the optimum, or the front row ``exported`` the choice moved to where the
+    optimum fell on the robot (:func:`ftfof.pipeline.climb.moved_choice`)."""
+    at_step, fine, on_film, repeats = split_runs(simulations)
     ok = at_step[at_step.status == "ok"]
     detachment = {
         table_name(s): float(ok[ok.source == s].iloc[0].peak_detachment)
@@ -380,12 +285,21 @@ def evaluate(
     films = checked_on_both_films(cfg.check_nodes, solver.nodes, ctx, table, on_film)
     front = judged_front(ctx, table, films)
     fid, predicted, simulated = fidelity_of(inputs, table, ctx, surrogate)
-    controller = export(ctx, inputs, cfg.export_rate_hz)
+    chosen = inputs.optimum["front_row"] if exported is None else exported
+    controller = export(ctx, decision(inputs, chosen), cfg.export_rate_hz)
     n_fidelity = len(predicted) - (0 if from_front(inputs) else 1)
     candidates = rhs_candidates(inputs.optimum, inputs.objectives)
     summary = metrics(cfg, ctx.name, surface, inputs, rows, fid, controller, n_fidelity, front)
     summary["reference"], summary["reference_reason"] = reference, reason
     summary["hold_fidelity"] = hold_fidelity(inputs, table)
+    summary["fidelity_bound"] = repeatability(
+        inputs.objectives,
+        ctx.policy,
+        repeats,
+        surrogate.time_base(T3),
+        surrogate.hold,
+        ctx.robot.pre_pressure,
+    )
     summary["robot_rules_broken"] = {name: list(rules) for name, rules in breaks.items()}
     summary["choice"] = choice_summary(candidates)
     summary["step_check"] = None if steps is None else steps.as_dict(OPTIMUM)

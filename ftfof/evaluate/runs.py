@@ -16,6 +16,7 @@ from ftfof.trajectory.baselines import BASELINE_NAMES
 
 OPTIMUM = "optimum"
 PAPER_OPTIMUM = "baseline:paper_optimum"  # the published optimum, simulated, never fitted
+REPEAT = "repeat:"  # source prefix of a front member's repeatability runs (ftfof.evaluate.repeat)
 
 
 def ok_rows(df: pd.DataFrame, reference: str) -> pd.DataFrame:
@@ -28,16 +29,21 @@ def ok_rows(df: pd.DataFrame, reference: str) -> pd.DataFrame:
     return df[df.status == "ok"]
 
 
-def split_runs(simulations: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame, pd.DataFrame]:
+def split_runs(
+    simulations: pd.DataFrame,
+) -> tuple[pd.DataFrame, pd.DataFrame, pd.DataFrame, pd.DataFrame]:
     """The runs as the acquisition makes them, those at the check step and those on the check
-    film (each with its ``FINE`` / ``FILM`` prefix removed from the source)."""
+    film (each with its ``FINE`` / ``FILM`` prefix removed from the source), and the front
+    members' repeatability runs (their sources as they are)."""
     fine = simulations.source.str.startswith(FINE)
     film = simulations.source.str.startswith(FILM)
+    repeat = simulations.source.str.startswith(REPEAT)
     check, on_film = simulations[fine], simulations[film]
     return (
-        simulations[~fine & ~film],
+        simulations[~fine & ~film & ~repeat],
         check.assign(source=check.source.str.removeprefix(FINE)),
         on_film.assign(source=on_film.source.str.removeprefix(FILM)),
+        simulations[repeat],
     )
 
 

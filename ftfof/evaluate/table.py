@@ -78,17 +78,34 @@ PAPER_TABLE_I: dict[str, dict[str, float]] = {
 }
 
 
-def climb_record(climbs: Mapping[str, Mapping[str, Any]], skipped: Mapping[str, str]) -> dict:
+NOT_CLIMBED = "not_climbed"  # the climbing table's trajectories the robot could not run, and why
+MOVED = "moved_to"  # where the optimum fell: the candidate the choice moved to, and why
+CLIMB_NOTES = (NOT_CLIMBED, MOVED)  # the climbing table's keys that are not a climb
+
+
+def climb_record(
+    climbs: Mapping[str, Mapping[str, Any]],
+    skipped: Mapping[str, str],
+    moved: Mapping[str, Any] | None = None,
+) -> dict:
     """The climbing robot's runs as the report keeps them: per name its climb's figures to four
-    decimals, as Table I's (flags and missing values as they are), its fall and error; and
-    ``not_climbed``, the trajectories it could not run and why."""
+    decimals, as Table I's (flags and missing values as they are), its fall and error;
+    ``not_climbed``, the trajectories it could not run and why; and ``moved_to`` where the
+    optimum fell (:func:`ftfof.pipeline.climb.moved_choice`)."""
     out: dict[str, Any] = {
         n: {**_rounded(d["summary"]), "fall": d["fall"], "error": d["error"]}
         for n, d in climbs.items()
     }
     if skipped:
-        out["not_climbed"] = dict(skipped)
+        out[NOT_CLIMBED] = dict(skipped)
+    if moved is not None:
+        out[MOVED] = dict(moved)
     return out
+
+
+def climbs_of(record: Mapping[str, Any]) -> dict[str, Any]:
+    """The climbing table's climbs by name, without its notes (CLIMB_NOTES)."""
+    return {n: row for n, row in record.items() if n not in CLIMB_NOTES}
 
 
 def _rounded(figures: Mapping[str, Any]) -> dict[str, Any]:

@@ -28,9 +28,11 @@ from ftfof.climb.specs import climb_spec_of, controller_specs
 from ftfof.config import Params
 from ftfof.digests import json_sha256
 from ftfof.errors import ParamsError
+from ftfof.evaluate.choice import fallback_order, first_that_climbs, rhs_candidates
 from ftfof.evaluate.feasible import admitted, climbable
 from ftfof.evaluate.pick import Source
-from ftfof.evaluate.run import bezier_rows
+from ftfof.evaluate.run import bezier_rows, decision
+from ftfof.evaluate.runs import OPTIMUM
 from ftfof.evaluate.table import climb_record
 from ftfof.files import atomic_path, save_figure, write_json, write_parquet
 from ftfof.pipeline.artefacts import read_optimum
@@ -43,7 +45,11 @@ from ftfof.report.climb_figure import climb_traces, side_view, slip_comparison_f
 from ftfof.robot import RobotContext
 from ftfof.sim.pool import fork_pool
 from ftfof.sim.spec import BASELINE_SEGMENTS
+from ftfof.trajectory.baselines import BezierTrajectory
+from ftfof.trajectory.bezier import DECISION_NAMES
 from ftfof.trajectory.piecewise import PiecewiseQuintic, Sampled
+
+FALLBACKS = "fallbacks"  # under the climbs' folder: the candidates climbed where the optimum fell
 
 
 def run_table(
@@ -60,9 +66,54 @@ def run_table(
         specs, skipped = table_specs(params, ctx, optimize)
         console.print(f"climb: the climbing robot climbs {', '.join(specs)}")
         pool = params.acquire.workers if workers is None else workers
-        climbed = climb_record(climb_all(params, specs, out_dir, pool), skipped)
+        climbs = climb_all(params, specs, out_dir, pool)
+        moved = moved_choice(params, ctx, optimize, climbs, out_dir / FALLBACKS)
+        climbed = climb_record(climbs, skipped, moved)
     write_metrics("climb", record, climbed)
     return climbed
+
+
+def moved_choice(
+    params: Params,
+    ctx: RobotContext,
+    optimize: Path,
+    climbs: dict[str, dict[str, Any]],
+    out_dir: Path,
+) -> dict[str, Any] | None:
+    """Where the chosen optimum fell on the robot (or its climb failed): the choice moves to the
+    next simulator-checked candidate by RHS's order that climbs (:func:`fallback_order`), tried
+    one at a time (each written under ``out_dir``, and added to ``climbs``), at most
+    ``climb.fallbacks`` of them. Returns the candidate's row (None: none climbed), why the
+    choice moved and what was tried; None where the optimum climbed or was not climbed."""
+    if OPTIMUM not in climbs or not _fell(climbs[OPTIMUM]):
+        return None
+    inputs = read_optimum(optimize, ctx.name)
+    candidates = rhs_candidates(inputs.optimum, inputs.objectives)
+    why = f"the optimum fell on the robot ({_fall(climbs[OPTIMUM])})"
+
+    def fall_of(row: int) -> str | None:
+        name, X = f"candidate_{row}", decision(inputs, row)
+        spec = spec_for(params, ctx, name, BezierTrajectory(ctx.policy, X), X)
+        console.print(f"climb: {why}; the next candidate by RHS's order, row {row}, climbs")
+        climbs[name] = climb_all(params, {name: spec}, out_dir / name, 1)[name]
+        return _fall(climbs[name]) if _fell(climbs[name]) else None
+
+    order = fallback_order(candidates)[: params.climb.fallbacks]
+    row, tried = first_that_climbs(order, fall_of)
+    if row is None:
+        return {"row": None, "name": None, "why": why, "tried": tried, "decision": None}
+    X = decision(inputs, row).tolist()
+    decided = dict(zip(DECISION_NAMES, X, strict=True))
+    return {"row": row, "name": f"candidate_{row}", "why": why, "tried": tried, "decision": decided}
+
+
+def _fell(document: dict[str, Any]) -> bool:
+    """Whether a climb's document ended off the wall or in an error."""
+    return bool(document["summary"]["fell"] or document["error"])
+
+
+def _fall(document: dict[str, Any]) -> str:
+    return str(document["fall"] or document["error"])
 
 
 def table_specs(

@@ -16,8 +16,17 @@ import pyarrow.parquet as pq
 
 from ftfof.config import Params
 from ftfof.evaluate.feasible import admitted
-from ftfof.evaluate.run import Evaluation, Inputs, bezier_rows, evaluate, front_sample
+from ftfof.evaluate.repeat import repeat_specs
+from ftfof.evaluate.run import (
+    Evaluation,
+    Inputs,
+    bezier_rows,
+    evaluate,
+    fidelity_members,
+    front_sample,
+)
 from ftfof.evaluate.specs import evaluation_specs
+from ftfof.evaluate.table import MOVED
 from ftfof.files import atomic_path
 from ftfof.pipeline import tracking
 from ftfof.pipeline.artefacts import (
@@ -98,6 +107,7 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
             simulations,
             surrogate,
             breaks,
+            (robot.summary["climb"].get(MOVED) or {}).get("row"),
         )
         result.summary.update(robot.summary)
         html = evaluation_page(
@@ -132,20 +142,20 @@ def _simulated(
 ) -> pd.DataFrame:
     """The evaluation's simulations (:func:`_job`), those still to run run now in a pool of
     ``workers`` (None: acquire.workers)."""
-    front_rows = front_sample(inputs, params.evaluate.front_points)
+    cfg, acquire = params.evaluate, params.acquire
+    front_rows = front_sample(inputs, cfg.front_points)
     job = _job(params, ctx, out, inputs, front_rows, baselines)
     todo = job.remaining()
     console.print(
         f"evaluate {ctx.name} on {params.surface}: {len(job.specs)} simulations "
         f"(optimum, {len(front_rows)} front members, baselines"
-        f"{'; Table I again at the check step' if params.evaluate.check_step else ''}"
-        f"{'; all on the check film' if params.evaluate.check_nodes else ''}), "
+        f"{'; Table I again at the check step' if cfg.check_step else ''}"
+        f"{'; all on the check film' if cfg.check_nodes else ''}"
+        f"{'; the front twice more, each off by the repeatability' if cfg.repeat_front else ''}), "
         f"{len(todo)} to run"
     )
-    cfg = params.acquire
-    wall = job.simulate(
-        todo, cfg.workers if workers is None else workers, cfg.scheduler, "evaluate"
-    )
+    workers = acquire.workers if workers is None else workers
+    wall = job.simulate(todo, workers, acquire.scheduler, "evaluate")
     job.finish(wall, len(todo))
     return pq.read_table(job.out / FINAL).to_pandas()
 
@@ -204,6 +214,11 @@ def _job(
         cfg.check_step,
         cfg.check_nodes,
     )
+    if cfg.repeat_front:
+        members = fidelity_members(inputs, front_rows)
+        error = params.optimize.verify_repeatability
+        repeats, repeat_controls = repeat_specs(on, ctx.policy, members, error, params.base.seed)
+        specs, controls = specs + repeats, controls | repeat_controls
     return Acquisition.start(
         params,
         ctx,
@@ -215,6 +230,7 @@ def _job(
             "front_rows": front_rows,
             "check_step": cfg.check_step,  # a resumed job keeps runs of one step
             "check_nodes": cfg.check_nodes,  # and of one film
+            "repeat_front": cfg.repeat_front,
         },
     )
 

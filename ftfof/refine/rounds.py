@@ -26,7 +26,8 @@ from ftfof.data.refinement import grow, round_rows
 from ftfof.digests import json_sha256
 from ftfof.errors import SimulationError
 from ftfof.evaluate.fidelity import Fidelity, relative_error, simulated_objectives, target_met
-from ftfof.evaluate.run import Inputs, fidelity_of, from_front, run_faults
+from ftfof.evaluate.members import run_faults
+from ftfof.evaluate.run import Inputs, fidelity_of, from_front
 from ftfof.evaluate.runs import OPTIMUM, channels, figures_of, simulated_rows
 from ftfof.optimize.select import FRONT, Nominees, Outcome, SimulatorCheck, rhs_ranking
 from ftfof.robot import RobotContext

@@ -6,7 +6,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from ftfof.evaluate.table import PAPER_TABLE_I, TableRow
+from ftfof.evaluate.table import PAPER_TABLE_I, TableRow, climbs_of
 
 # our Table I names -> the paper's (its "optimal" is the published optimum, simulated here as
 # paper_optimum)
@@ -21,15 +21,18 @@ PAPER_NAMES = {
 def climb_rows(
     climbed: Mapping[str, Any], rows: Sequence[TableRow], steps: int, paper_robot: bool
 ) -> list[dict[str, Any]]:
-    """One row per climbed trajectory, in Table I's order: steps done, how it ended, its jitter
+    """One row per climbed trajectory, in Table I's order, then the candidates the choice moved
+    through where the optimum fell: steps done, how it ended, its jitter
     (detachment window and whole step), the platform's jitter and proof pull held, and the
     paper's jitter where it has one."""
     platform = {r.trajectory: r.values.get("jitter") for r in rows}
     held = {r.trajectory: r.values.get("held_pull") for r in rows}
-    order = [r.trajectory for r in rows if r.trajectory in climbed]
+    climbs = climbs_of(climbed)
+    order = [r.trajectory for r in rows if r.trajectory in climbs]
+    order += [n for n in climbs if n not in order]  # the candidates climbed where the optimum fell
     out = []
     for name in order:
-        c = climbed[name]
+        c = climbs[name]
         paper = PAPER_TABLE_I.get(PAPER_NAMES.get(name, ""), {}).get("peak_body_acc")
         if c.get("error"):
             ended = f"failed: {c['error']}"

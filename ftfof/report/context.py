@@ -10,10 +10,11 @@ import numpy as np
 import pandas as pd
 
 from ftfof.evaluate.choice import TABLE_ANALOGUE, Candidate
+from ftfof.evaluate.repeat import HELD_PULL
 from ftfof.evaluate.run import Evaluation, Inputs
 from ftfof.evaluate.runs import OPTIMUM, PAPER_OPTIMUM, compared, table_name
 from ftfof.evaluate.step_check import CHECKED
-from ftfof.evaluate.table import COLUMNS, PEAKS, TableRow
+from ftfof.evaluate.table import COLUMNS, MOVED, NOT_CLIMBED, PEAKS, TableRow
 from ftfof.optimize.polish import POLISH
 from ftfof.optimize.select import FRONT
 from ftfof.report.climb import climb_rows
@@ -116,7 +117,12 @@ def report_context(
         **_run_context(ctx, surface, inputs, reference),
         **_choice_and_tables(ev, ctx, inputs, reference),
         **_climb_context(ev.summary, ev.rows, climb_steps, ctx),
-        "fidelity": [{"objective": f.objective, **f.as_dict()} for f in ev.fidelity],
+        "fidelity": [
+            {"objective": f.objective, **f.as_dict(), "bound": _bound(ev.summary, f.objective)}
+            for f in ev.fidelity
+        ],
+        "hold_fidelity": ev.summary.get("hold_fidelity"),
+        "held_pull_bound": _bound(ev.summary, HELD_PULL),
         "front_points": len(ev.predicted) - 1,
         "objectives": inputs.objectives,
         "optimum_predicted": ev.predicted[0].tolist(),
@@ -206,9 +212,16 @@ def _climb_context(
             climb_steps,
             ctx.robot.published_optimum is not None,
         ),
-        "climb_skipped": summary.get("climb", {}).get("not_climbed", {}),
+        "climb_skipped": summary.get("climb", {}).get(NOT_CLIMBED, {}),
+        "climb_moved": summary.get("climb", {}).get(MOVED),
         "climb_steps": climb_steps,
     }
+
+
+def _bound(summary: Mapping[str, Any], name: str) -> float | None:
+    """The simulator's own rank correlation for ``name`` (None: not measured)."""
+    bound = summary.get("fidelity_bound") or {}
+    return bound.get(name, {}).get("spearman")
 
 
 def _export_context(export: Mapping[str, Any], ctx: RobotContext) -> dict[str, Any]:

@@ -34,6 +34,6 @@ def render(context: dict, template: str = TEMPLATE) -> str:
     """Fill the packaged template; values are HTML-escaped, images must be data URIs."""
     source = resources.files("ftfof.report").joinpath("templates", template).read_text("utf-8")
     env = jinja2.Environment(autoescape=True, undefined=jinja2.StrictUndefined)
-    env.filters["num"] = lambda v, digits=3: "–" if v != v else f"{v:.{digits}f}"
+    env.filters["num"] = lambda v, digits=3: "–" if v is None or v != v else f"{v:.{digits}f}"
     env.filters["pct"] = lambda v: "–" if v != v else f"{v:+.1f} %"
     return env.from_string(source).render(**context)

@@ -10,6 +10,8 @@ import re
 from collections.abc import Mapping
 from typing import Any
 
+from ftfof.evaluate.table import climbs_of
+
 _SCOPE = re.compile(r"^[a-z][a-z0-9_]*$")
 _PART = re.compile(r"[^A-Za-z0-9_]+")
 
@@ -126,9 +128,10 @@ def polish(report: dict[str, Any]) -> dict[str, float]:
 
 
 def evaluate(summary: dict) -> dict[str, float]:
-    """``table.<row>.<column>`` (Table I analogue), ``fidelity.<objective>.<stat>``,
-    ``climb.<trajectory>.<figure>`` (the climbing robot; ``fell`` as 0 or 1),
-    ``slip.<controller>.<figure>`` (evaluate.slip_comparison) and ``time.seconds``."""
+    """``table.<row>.<column>`` (Table I analogue), ``fidelity.<objective>.<stat>`` and
+    ``fidelity.<objective>.bound`` (the simulator's own rho), ``climb.<trajectory>.<figure>``
+    (the climbing robot; ``fell`` as 0 or 1), ``slip.<controller>.<figure>``
+    (evaluate.slip_comparison) and ``time.seconds``."""
     name = metric_name
     out = {
         name("table", row_name, key): value
@@ -138,7 +141,10 @@ def evaluate(summary: dict) -> dict[str, float]:
     }
     for objective, values in summary["fidelity"].items():
         out.update({name("fidelity", objective, k): v for k, v in values.items()})
-    for trajectory, climbed in summary.get("climb", {}).items():
+    for objective, values in (summary.get("fidelity_bound") or {}).items():
+        if values["spearman"] is not None:
+            out[name("fidelity", objective, "bound")] = values["spearman"]
+    for trajectory, climbed in climbs_of(summary.get("climb", {})).items():
         out.update(
             {
                 name("climb", trajectory, k): float(v)

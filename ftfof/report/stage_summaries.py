@@ -14,6 +14,8 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from typing import Any
 
+from ftfof.evaluate.table import climbs_of
+
 LIMIT = 20  # numbers per summary: about what a terminal row of `dvc exp show` holds per stage
 
 Report = Mapping[str, Any]
@@ -159,8 +161,7 @@ def evaluate(report: Report) -> dict[str, Any]:
 
 def climb(report: Report) -> dict[str, Any]:
     """Per trajectory climbed, its steps done and its torque ratio (the hip servos' margin)."""
-    rows = {n: r for n, r in report.items() if n != "not_climbed"}
-    return {n: _keys(r, "steps_done", "torque_ratio") for n, r in rows.items()}
+    return {n: _keys(r, "steps_done", "torque_ratio") for n, r in climbs_of(report).items()}
 
 
 def slip(report: Report) -> dict[str, Any]:

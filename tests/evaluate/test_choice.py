@@ -3,11 +3,20 @@ removed each candidate, checked against the values and cuts of a real RHS trace.
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pytest
 
 from ftfof.errors import DataError
-from ftfof.evaluate.choice import CHOSEN, TIE_BREAK, choice_summary, rhs_candidates
+from ftfof.evaluate.choice import (
+    CHOSEN,
+    TIE_BREAK,
+    choice_summary,
+    fallback_order,
+    first_that_climbs,
+    rhs_candidates,
+)
 from ftfof.optimize.rhs import rhs_trace
 
 NAMES = ["fs1", "fsj", "fs3"]
@@ -74,6 +83,43 @@ def test_rows_left_when_alpha_runs_out_lose_the_tie_break():
     assert by_row[10].removed_by == CHOSEN  # the lexicographic rule's lowest row
     assert by_row[11].removed_by == TIE_BREAK
     assert by_row[12].removed_by == "fs1" and by_row[12].visit == 1
+
+
+def test_where_the_optimum_falls_the_next_is_the_one_rhs_removed_last():
+    rng = np.random.default_rng(5)
+    F = rng.uniform(0.0, 1.0, (30, 3))
+    candidates = rhs_candidates(_record(F, list(range(30))), NAMES)
+    order = fallback_order(candidates)
+    chosen = next(c.row for c in candidates if c.chosen)
+    assert sorted(order) == sorted(set(range(30)) - {chosen})  # every other candidate, once
+    by_row = {c.row: c for c in candidates}
+    visits = [by_row[r].visit for r in order]
+    assert visits == sorted(visits, reverse=True)  # a later visit's before an earlier one's
+    for a, b in itertools.pairwise(order):
+        if by_row[a].visit == by_row[b].visit and by_row[a].removed_by != TIE_BREAK:
+            cut = by_row[a].removed_by  # within a visit, the lower mean of what cut them
+            assert by_row[a].mean[cut] <= by_row[b].mean[cut]
+
+
+def test_a_tie_breaks_loser_comes_before_any_visits_cut():
+    F = np.array([[1.0, 1.0, 1.0], [1.0, 1.0, 1.0], [2.0, 0.0, 0.0]])
+    candidates = rhs_candidates(_record(F, [10, 11, 12], alpha=0.5), NAMES)
+    assert fallback_order(candidates) == [11, 12]
+    assert fallback_order([]) == []
+
+
+def test_the_choice_moves_to_the_first_that_climbs_and_climbs_no_further():
+    falls = {4: "FL let go in step 3", 7: None, 9: None}
+    climbed = []
+
+    def fall_of(row: int) -> str | None:
+        climbed.append(row)
+        return falls[row]
+
+    assert first_that_climbs([4, 7, 9], fall_of) == (7, [{"row": 4, "fall": falls[4]}])
+    assert climbed == [4, 7]  # 9 never climbs: 7 already did
+    assert first_that_climbs([4], fall_of) == (None, [{"row": 4, "fall": falls[4]}])
+    assert first_that_climbs([], fall_of) == (None, [])
 
 
 def test_a_choice_on_predictions_alone_has_no_candidates():

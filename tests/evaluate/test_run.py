@@ -9,7 +9,8 @@ import pytest
 from ftfof.data.dataset import CHANNELS
 from ftfof.errors import SimulationError
 from ftfof.evaluate.film_check import FilmCheck
-from ftfof.evaluate.run import Inputs, front_members, front_sample
+from ftfof.evaluate.members import front_members
+from ftfof.evaluate.run import Inputs, front_sample
 from ftfof.evaluate.runs import OPTIMUM, PAPER_OPTIMUM, ok_rows, table_rows
 from ftfof.evaluate.table import COLUMNS, table_one
 from ftfof.rules import FootRules

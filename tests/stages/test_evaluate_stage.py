@@ -14,7 +14,7 @@ from PIL import Image
 from typer.testing import CliRunner
 
 from stages.cli import app
-from tests.conftest import write_params
+from tests.conftest import cli_args, write_params
 
 ROWS = ("polynomial", "cycloidal", "random_bezier", "eps_bezier", "paper_optimum", "optimum")
 
@@ -270,3 +270,47 @@ def test_champion_resolves_to_the_model_that_produced_the_optimum(evaluated, tmp
         (polish, json.loads((work / "polish.json").read_text())["seconds"]),
     ):
         assert stage_run.info.end_time - stage_run.info.start_time >= 800 * seconds
+
+
+def test_where_the_optimum_falls_the_next_candidates_climb_and_the_report_says_so(
+    evaluated, tmp_path
+):
+    """A fall at the first millimetre off plan (climb.fall_distance 1 µm) fells every climb:
+    the optimum's, then each candidate's tried by RHS's order, at most climb.fallbacks, one at
+    a time; climb.json says so, the report says so, and the export stays RHS's choice."""
+    work, uri, data, evaluate = evaluated
+    data = copy.deepcopy(data)
+    data["climb"] = {**data["climb"], "fall_distance": 1e-6, "fallbacks": 2}
+    params = write_params(tmp_path / "params.yaml", data)
+    for name in ("slip.json", "eps_study.json", "eps_study.png"):
+        shutil.copy(work / name, tmp_path / name)
+    shutil.copytree(work / "slip_comparison", tmp_path / "slip_comparison")
+    optimize = work / "polish" / "optimize"
+    climb = cli_args(
+        "climb-table", params, optimize=optimize, out=tmp_path / "climb", record=tmp_path / "c.json"
+    )
+    result = runner.invoke(app, climb, env={"MLFLOW_TRACKING_URI": uri})
+    assert result.exit_code == 0, result.output
+    record = json.loads((tmp_path / "c.json").read_text())
+    optimum = json.loads((optimize / "optimum.json").read_text())
+    others = [r for r in optimum["rhs"]["rows"] if r != optimum["front_row"]]
+    moved = record["moved_to"]
+    assert record["optimum"]["fell"] and moved["row"] is None and moved["decision"] is None
+    assert moved["why"].startswith("the optimum fell on the robot (")
+    assert len(moved["tried"]) == min(2, len(others))
+    for tried in moved["tried"]:
+        assert tried["row"] in others and record[f"candidate_{tried['row']}"]["fell"]
+        assert (tmp_path / "climb" / "fallbacks" / f"candidate_{tried['row']}").is_dir()
+    shutil.copy(tmp_path / "c.json", tmp_path / "climb.json")
+    args = list(evaluate)
+    for option, value in (("-p", params), ("--out", tmp_path / "sims"),
+                          ("--report", tmp_path / "report.html"),
+                          ("--metrics", tmp_path / "metrics.json"),
+                          ("--export", tmp_path / "optimum.csv")):  # fmt: skip
+        args[args.index(option) + 1] = str(value)
+    shutil.copytree(work / "sims", tmp_path / "sims")  # the same simulations: resumed
+    result = runner.invoke(app, args, env={"MLFLOW_TRACKING_URI": uri})
+    assert result.exit_code == 0, result.output
+    html = (tmp_path / "report.html").read_text()
+    assert "The choice moved:" in html and "No candidate tried climbs" in html
+    assert (tmp_path / "optimum.csv").read_bytes() == (work / "optimum.csv").read_bytes()

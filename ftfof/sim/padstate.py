@@ -61,6 +61,9 @@ class PadTracker:
         self.node_index = np.array([mbs.GetNodeODE2Index(k) for k in parts.film_nodes], np.int64)
         self.plate_index = int(mbs.GetNodeODE2Index(parts.plate_node))
         self.state = bonds.BondState.bonded(parts.x_ref, initial_pressure, law)
+        # the state's arrays in :func:`bonds.step`'s order, gathered once: the kernel updates
+        # them in place, and gathering them anew every step cost 4 % of a sample's wall time
+        self.state_arrays = self.state.arrays()
         self.kernel_law = bonds.kernel_law(law)
         self.push = np.zeros(n, dtype=np.int64)
         self.kind = np.zeros_like(self.push)
@@ -80,7 +83,7 @@ class PadTracker:
 
     def update(self, q: Array, qd: Array, h: float, t: float) -> PadStep:
         """Advance the bond states to the solver's state (q, qd) before a step of ``h``."""
-        st, parts = self.state, self.parts
+        parts = self.parts
         n_push, n_bonded, lowest, load = bonds.step(
             q,
             qd,
@@ -88,7 +91,7 @@ class PadTracker:
             self.plate_index,
             parts.x_ref,
             parts.area,
-            *st.arrays(),
+            *self.state_arrays,
             h,
             self.kernel_law,
             self.push,
@@ -106,14 +109,19 @@ class PadTracker:
         return PadStep(n_push, n_bonded, lowest, load)
 
     def _apply(self, n_push: int, t: float) -> None:
-        st, setp = self.state, self.mbs.SetObjectParameter
-        for j in range(n_push):
-            i, kind = int(self.push[j]), int(self.kind[j])
-            obj = self.parts.bonds[i]
+        """Push the changed bonds' state to their connectors (each bond's values gathered as
+        Python floats in one go: the loop runs on most steps of a pull)."""
+        st, setp, objects = self.state, self.mbs.SetObjectParameter, self.parts.bonds
+        push = self.push[:n_push]
+        kinds = self.kind[:n_push].tolist()
+        anchor, slider = st.anchor[push].tolist(), st.slider_pushed[push].tolist()
+        broken, scale = st.broken[push].astype(float).tolist(), st.scale[push].tolist()
+        for j, i in enumerate(push.tolist()):
+            kind = kinds[j]
             if kind & (bonds.REBOND | bonds.SLIDE):
-                setp(obj, "offset", [float(st.anchor[i]), 0.0, float(st.slider_pushed[i])])
+                setp(objects[i], "offset", [anchor[j], 0.0, slider[j]])
             if kind & (bonds.BREAK | bonds.SCALE | bonds.REBOND):
-                setp(obj, "damping", [float(st.broken[i]), float(st.scale[i]), 0.0])
+                setp(objects[i], "damping", [broken[j], scale[j], 0.0])
             if kind & bonds.BREAK:
                 self.last_break = t
 

@@ -35,6 +35,11 @@ def fore_foot_demand(robot: config.Robot) -> float:
     return robot.pre_pressure + robot_mass(robot) * config.GRAVITY * h / robot.climber.hip_spacing
 
 
+# the proof test's lines, one home for the simulated platform and an imported log's pull
+LET_GO = 0.1  # the share of the landed pad whose loss ends the test: it did not hold
+REACHED = 0.98  # of F_proof: the sensor read the pull (the loop settles in 10 ms of a 0.5 s hold)
+
+
 def proof_pull(robot: config.Robot) -> float | None:
     """F_proof, N: the fore foot's demand times the robot's ``proof.safety_factor``; None where
     the robot asks for no proof pull."""

@@ -39,6 +39,7 @@ def command(
     """
     from ftfof.data.acquisition import to_table
     from ftfof.data.logs import parse
+    from ftfof.demand import proof_pull
     from ftfof.errors import DataError
     from ftfof.files import write_parquet
     from ftfof.pipeline.bench import context_of
@@ -56,9 +57,10 @@ def command(
     params = load_params(params_path)
     T3 = duration if duration is not None else params.selected_robot.timing.T3
     max_speed = float(max(context_of(params).limits.velocity))
+    force = proof_pull(params.selected_robot)  # F_proof, where a log carries the proof pull
     tables = []
     for i, (path, df) in enumerate(zip(logs, frames, strict=True)):
-        result = parse(df, params.logs, str(path), path.stem, i, T3, max_speed)
+        result = parse(df, params.logs, str(path), path.stem, i, T3, max_speed, force)
         tables.append(
             to_table([result], params.robot, params.logs.surface, {}, T3, with_wall_time=False)
         )

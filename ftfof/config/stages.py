@@ -336,6 +336,9 @@ class LogColumns(Strict):
     z: str = "z"
     Fz: str = "Fz"
     Fx: str | None = "Fx"  # optional
+    # optional: nonzero on the rows of the platform's proof pull after the landing hold, to the
+    # log's end (docs/pipeline.md, "import-logs"); a log without it supplies no `holds` target
+    proof: str | None = "proof"
 
 
 class LogUnits(Strict):

@@ -345,15 +345,22 @@ def arrays(table: pa.Table, split_name: str) -> tuple[Array, Array]:
 
 def summarize(built: pa.Table, acquired: int, seq_len: int) -> dict[str, Any]:
     """A built dataset in numbers: its splits, the ``acquired`` samples it left out (failed),
-    how many samples supply each target (the rest are masked) and the mean peak detachment."""
+    the imported logs and how many of them carry the proof pull, how many samples supply each
+    target (the rest are masked) and the mean peak detachment."""
     splits = built.column("split").to_pylist()
+    imported = np.array(built.column("source").to_pylist()) == "imported"
+    holds = built.column("holds").to_numpy(zero_copy_only=False)
     return {
         "samples": built.num_rows,
         "excluded_failed": acquired - built.num_rows,
         "train": splits.count("train"),
         "validation": splits.count("validation"),
         "baseline": splits.count("baseline"),
-        "imported": built.column("source").to_pylist().count("imported"),
+        "imported": int(imported.sum()),
+        # imported logs that carry the platform's proof pull (the rest supply no `holds` target)
+        "imported_with_proof": int(
+            sum(np.isfinite(holds[i]).all() for i in np.flatnonzero(imported))
+        ),
         "seq_len": seq_len,
         "targets_supplied": {
             name: int(

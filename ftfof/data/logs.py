@@ -16,6 +16,7 @@ import numpy as np
 import pandas as pd
 
 import ftfof.config as config
+from ftfof.demand import LET_GO, REACHED
 from ftfof.errors import DataError
 from ftfof.sim.records import CHANNELS, SampleResult, Status, force_peaks
 
@@ -24,7 +25,8 @@ SCALE = {
     "length": {"m": 1.0, "mm": 1e-3, "um": 1e-6},
     "force": {"N": 1.0, "mN": 1e-3},
 }
-KIND = {"time": "time", "x": "length", "z": "length", "Fz": "force", "Fx": "force"}
+KIND = {"time": "time", "x": "length", "z": "length", "Fz": "force", "Fx": "force", "proof": "flag"}
+OPTIONAL = ("Fx", "proof")  # a log may leave these out
 HEADER = re.compile(r"^\s*(?P<name>[^\[\]]+?)\s*(?:\[(?P<unit>[^\]]*)\])?\s*$")
 
 
@@ -41,11 +43,14 @@ def _columns(df: pd.DataFrame, fmt: config.Logs, source: str) -> dict[str, tuple
         if name is None:
             continue
         if name not in headers:
-            if quantity == "Fx":
+            if quantity in OPTIONAL:
                 continue
             raise DataError(source, f"row 1, column {name!r}: missing (needed for {quantity})")
         header, unit = headers[name]
         kind = KIND[quantity]
+        if kind == "flag":  # no unit: nonzero or zero
+            out[quantity] = (header, 1.0)
+            continue
         unit = unit if unit is not None else getattr(fmt.units, kind)
         if unit not in SCALE[kind]:
             raise DataError(
@@ -65,14 +70,19 @@ def parse(
     sample_id: int,
     duration: float | None = None,
     max_speed: float | None = None,
+    proof_pull: float | None = None,
 ) -> SampleResult:
     """One validated log as the sample ``imported:<name>`` (channels in SI, tension positive).
 
     With the robot's trajectory ``duration`` (T3, s) and its leg's ``max_speed`` (m/s), a log
     whose time or length unit is off by a thousand is refused: it would import a step of a
-    millisecond, or a foot at a hundred metres a second."""
+    millisecond, or a foot at a hundred metres a second. A log whose ``proof`` column marks the
+    platform's proof pull is judged against the robot's F_proof ``proof_pull``
+    (:func:`proof_figures`), and its channels end where the pull begins, as a simulated
+    record's do."""
     cols = _columns(df, fmt, source)
     values = _values(df, cols, source)
+    values, proof = _proof_phase(values, cols, fmt.tension_positive, proof_pull, source)
     t = values["time"]
     if t.size < 2:
         raise DataError(source, "row 2: a log needs at least two rows")
@@ -89,10 +99,58 @@ def parse(
         "peak_detachment": float(channels["Fd"].max()),
         "peak_pre_pressure": float(channels["Fp"].max()),
         **force_peaks(channels["Fx_pad"], fz, np.ones_like(t, dtype=bool)),
+        **proof,
     }
     result = SampleResult(f"imported:{name}", "imported", sample_id, Status.OK, "", 0.0, channels)
     result.scalars = scalars
     return result
+
+
+def _proof_phase(
+    values: dict[str, np.ndarray],
+    cols: dict[str, tuple[str, float]],
+    tension_positive: bool,
+    force: float | None,
+    source: str,
+) -> tuple[dict[str, np.ndarray], dict[str, float]]:
+    """The log's rows before its proof pull, and the pull's figures (none without the phase).
+    The pull must run from its first marked row to the log's end."""
+    flag = values.pop("proof", None)
+    if flag is None or not flag.any():
+        return values, {}
+    header = cols["proof"][0]
+    start = int(np.argmax(flag != 0))
+    if not (flag[start:] != 0).all():
+        stop = start + int(np.argmax(flag[start:] == 0))
+        raise DataError(
+            source, f"row {stop + 2}, column {header!r}: the proof pull must run to the log's end"
+        )
+    if start < 2:
+        raise DataError(source, f"row {start + 2}, column {header!r}: the log is all proof pull")
+    if force is None:
+        raise DataError(
+            source,
+            f"column {header!r}: the log carries a proof pull, but the robot asks for none "
+            "(robots.<name>.proof is null): there is no F_proof to judge it against",
+        )
+    tension = values["Fz"][start:] * (1.0 if tension_positive else -1.0)
+    return {k: v[:start] for k, v in values.items()}, proof_figures(tension, force)
+
+
+def proof_figures(tension: np.ndarray, force: float) -> dict[str, float]:
+    """A logged proof pull's figures, from the sensor's tension alone (a force log does not see
+    the bonds): it held when the tension reached REACHED x F_proof and never fell a tenth of
+    F_proof below that after (a pad letting go drops the load the loop holds); ``held_pull`` is
+    the largest tension borne, F_proof where it held."""
+    reached = np.flatnonzero(tension >= REACHED * force)
+    held = reached.size > 0 and float(tension[reached[0] :].min()) >= (REACHED - LET_GO) * force
+    peak = float(tension.max())
+    return {
+        "proof_pull": force,
+        "held_pull": force if held else min(peak, force),
+        "proof_held": float(held),
+        "rebond_fraction": np.nan,  # a force log does not see the bonds
+    }
 
 
 def _values(

@@ -17,11 +17,11 @@ from dataclasses import dataclass, replace
 import exudyn as exu
 import numpy as np
 
+from ftfof.demand import LET_GO
 from ftfof.sim.bonds import BondLaw
 from ftfof.sim.model import Platform, build
 from ftfof.sim.padstate import PadTracker
 from ftfof.sim.press import press_control, press_to_pull, sensor_tension
-from ftfof.sim.proof import LET_GO
 from ftfof.sim.settings import solver_settings
 from ftfof.sim.spec import SampleSpec
 from ftfof.trajectory.bezier import Samples

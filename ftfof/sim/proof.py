@@ -18,12 +18,11 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
+from ftfof.demand import LET_GO, REACHED
 from ftfof.sim.model import Platform
 from ftfof.sim.press import press_control, press_to_pull, sensor_tension
 
 Array = NDArray[np.float64]
-LET_GO = 0.1  # the share of the landed pad whose loss ends the test: it did not hold
-REACHED = 0.98  # of F_proof: the sensor read the pull (the loop settles in 10 ms of a 0.5 s hold)
 
 
 class ProofPull:

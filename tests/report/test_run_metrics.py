@@ -73,3 +73,21 @@ def test_a_runs_settings_are_dotted_strings_beside_the_robot_surface_and_seeds()
         "base.seed": "3",
         "base.search_seed": "4",
     }
+
+
+def test_the_evaluate_run_logs_the_fidelity_bound_and_no_climb_notes_as_climbs():
+    summary = {
+        "table": {"optimum": {"peak_pull": 6.3}},
+        "fidelity": {"fs1": {"spearman": 0.9, "n": 20}},
+        "fidelity_bound": {"fs1": {"spearman": 0.95, "n": 20}, "held_pull": {"spearman": None}},
+        "climb": {
+            "optimum": {"fell": True, "steps_done": 3},
+            "not_climbed": {"cycloidal": "a rule"},
+            "moved_to": {"row": 7, "why": "the optimum fell", "tried": []},
+        },
+        "seconds": 12.0,
+    }
+    logged = run_metrics.evaluate(summary)
+    assert logged["fidelity.fs1.bound"] == 0.95 and "fidelity.held_pull.bound" not in logged
+    assert logged["climb.optimum.fell"] == 1.0
+    assert not [name for name in logged if "moved_to" in name or "not_climbed" in name]

@@ -133,23 +133,38 @@ def test_simulated_samples_exported_as_logs_and_imported_back_give_the_same_rows
     T3 = m3f.robot.timing.T3
     simulated = to_table(results, "mst_m3f", "acrylic", {}, T3, with_wall_time=False)
     logs = []
-    for r in results:  # the documented log format: t [s], x and z [mm], Fz and Fx [N]
+    for r in results:  # the documented log format: t [s], x and z [mm], Fz and Fx [N], proof
         c = r.channels
         keep = c["t"] >= 0
         path = tmp_path / f"run{r.sample_id}.csv"
-        pd.DataFrame(
+        step = pd.DataFrame(
             {
                 "t": c["t"][keep],
                 "x": c["x_cmd"][keep] * 1e3,
                 "z": c["z_cmd"][keep] * 1e3,
                 "Fz": c["Fz_pad"][keep],  # a log holds the foot force
                 "Fx": c["Fx_pad"][keep],
+                "proof": 0,
             }
-        ).to_csv(path, index=False, float_format="%.9g")
+        )
+        pd.concat([step, _proof_rows(step, r.scalars)]).to_csv(
+            path, index=False, float_format="%.9g"
+        )
         logs.append(str(path))
     result = runner.invoke(app, ["import-logs", *logs, "--out", str(tmp_path / "imp")])
     assert result.exit_code == 0, result.stderr
     imp = pa.concat_tables([pq.read_table(p) for p in sorted((tmp_path / "imp").glob("*.parquet"))])
+    # the logged pull's verdict is the simulated one, and every imported log supplies `holds`
+    for name in ("proof_held", "held_pull"):
+        np.testing.assert_allclose(
+            imp.column(name).to_numpy(), simulated.column(name).to_numpy(), rtol=1e-6, err_msg=name
+        )
+    assert (
+        dataset.summarize(dataset.build(imp, params.dataset, seed=0)[0], 5, 64)[
+            "imported_with_proof"
+        ]
+        == 5
+    )
     settings = params.dataset
     a, _ = dataset.build(simulated, settings, seed=0)
     b, _ = dataset.build(imp, settings, seed=0)
@@ -178,6 +193,19 @@ def test_simulated_samples_exported_as_logs_and_imported_back_give_the_same_rows
         np.testing.assert_allclose(sb[let_go], sa[let_go], rtol=1e-3, atol=1e-3, err_msg=name)
     for name in ("body_acc", "curvature"):  # no IMU and no film channel in a force log
         assert np.isnan(series(b, name)).all(), name
+
+
+def _proof_rows(step: pd.DataFrame, scalars: dict) -> pd.DataFrame:
+    """What the platform's sensor logs in a simulated sample's proof pull, from its figures: a
+    ramp to the pull it bore over 0.2 s, then F_proof held for 0.5 s where it held, or the load
+    falling away where a tenth of the pad let go."""
+    t0 = float(step.t.iloc[-1])
+    ramp = np.linspace(0.0, scalars["held_pull"], 21)[1:]
+    after = np.full(50, scalars["held_pull"] if scalars["proof_held"] == 1.0 else 0.1)
+    pull = np.concatenate([ramp, after])
+    t = t0 + 0.01 * np.arange(1, pull.size + 1)
+    last = step.iloc[-1]
+    return pd.DataFrame({"t": t, "x": last.x, "z": last.z, "Fz": pull, "Fx": 0.0, "proof": 1})
 
 
 def test_a_later_stage_s_settings_leave_the_dataset_bytes_unchanged(built, raw_params, tmp_path):

@@ -43,5 +43,5 @@ def open_run(root: str | Path = ".") -> Run:
         sims = pq.read_table(simulations).to_pandas()
     except (ValueError, OSError) as err:
         raise DataError(str(root), f"unreadable run ({err})") from None
-    at_step, _, _ = split_runs(sims)  # the runs at the acquisition's settings
+    at_step, *_ = split_runs(sims)  # the runs at the acquisition's settings
     return Run(optimum, front, summary, at_step[at_step.status == "ok"])

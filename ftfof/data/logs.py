@@ -82,7 +82,9 @@ def parse(
     record's do."""
     cols = _columns(df, fmt, source)
     values = _values(df, cols, source)
-    values, proof = _proof_phase(values, cols, fmt.tension_positive, proof_pull, source)
+    if not fmt.tension_positive:
+        values["Fz"] = -values["Fz"]
+    values, proof = _proof_phase(values, cols, proof_pull, source)
     t = values["time"]
     if t.size < 2:
         raise DataError(source, "row 2: a log needs at least two rows")
@@ -92,7 +94,7 @@ def parse(
         raise DataError(source, f"row {back[0] + 3}, column {header!r}: time does not increase")
     if duration is not None and max_speed is not None:
         _plausible(t, values["x"], values["z"], cols, duration, max_speed, source)
-    fz = values["Fz"] if fmt.tension_positive else -values["Fz"]
+    fz = values["Fz"]  # tension positive
     channels = _channels(values, fz)
     assert set(channels) == set(CHANNELS)
     scalars = {
@@ -109,12 +111,11 @@ def parse(
 def _proof_phase(
     values: dict[str, np.ndarray],
     cols: dict[str, tuple[str, float]],
-    tension_positive: bool,
     force: float | None,
     source: str,
 ) -> tuple[dict[str, np.ndarray], dict[str, float]]:
-    """The log's rows before its proof pull, and the pull's figures (none without the phase).
-    The pull must run from its first marked row to the log's end."""
+    """The log's rows before its proof pull, and the pull's figures from its tension-positive
+    Fz (none without the phase). The pull must run from its first marked row to the log's end."""
     flag = values.pop("proof", None)
     if flag is None or not flag.any():
         return values, {}
@@ -133,8 +134,7 @@ def _proof_phase(
             f"column {header!r}: the log carries a proof pull, but the robot asks for none "
             "(robots.<name>.proof is null): there is no F_proof to judge it against",
         )
-    tension = values["Fz"][start:] * (1.0 if tension_positive else -1.0)
-    return {k: v[:start] for k, v in values.items()}, proof_figures(tension, force)
+    return {k: v[:start] for k, v in values.items()}, proof_figures(values["Fz"][start:], force)
 
 
 def proof_figures(tension: np.ndarray, force: float) -> dict[str, float]:

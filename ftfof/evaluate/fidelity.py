@@ -10,11 +10,14 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+import pandas as pd
 from numpy.typing import NDArray
 
 from ftfof.data import targets
+from ftfof.evaluate.runs import channels
 from ftfof.objectives import Evidence, strategy_values
 from ftfof.stats import rank_rho
+from ftfof.trajectory.bezier import DECISION_NAMES
 from ftfof.trajectory.policy import ConstraintPolicy
 
 Array = NDArray[np.float64]
@@ -64,6 +67,27 @@ def simulated_objectives(
         min_step=policy.feasibility.min_step,
     )
     return strategy_values(names, evidence)
+
+
+def run_objectives(
+    names: Sequence[str],
+    policy: ConstraintPolicy,
+    runs: pd.DataFrame,
+    force_t: Array,
+    hold: float,
+    pre_pressure: float,
+) -> Array:
+    """:func:`simulated_objectives` of a table of re-simulations, from each run's decision
+    columns and channels."""
+    return simulated_objectives(
+        names,
+        policy,
+        runs[list(DECISION_NAMES)].to_numpy(dtype=float),
+        [channels(r) for _, r in runs.iterrows()],  # a few tens of runs, once per evaluation
+        force_t,
+        hold,
+        pre_pressure,
+    )
 
 
 def fidelity(names: Sequence[str], predicted: Array, simulated: Array) -> list[Fidelity]:

@@ -15,13 +15,12 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 import pandas as pd
 
-from ftfof.evaluate.fidelity import simulated_objectives
-from ftfof.evaluate.runs import REPEAT, channels
+from ftfof.evaluate.fidelity import run_objectives
+from ftfof.evaluate.runs import REPEAT
 from ftfof.evaluate.simcheck import perturbed_runs
 from ftfof.seeds import seed_for
 from ftfof.sim.spec import Bench, SampleSpec
 from ftfof.stats import rank_rho
-from ftfof.trajectory.bezier import DECISION_NAMES
 from ftfof.trajectory.policy import ConstraintPolicy
 
 REPEATS = (f"{REPEAT}1", f"{REPEAT}2")  # the two runs' sources; the sample id is the front row
@@ -66,17 +65,11 @@ def repeatability(
     rows = sorted(set(pair[0].index) & set(pair[1].index))
     values = []
     for frame in (p.loc[rows] for p in pair):
-        objectives = simulated_objectives(
-            names,
-            policy,
-            frame[list(DECISION_NAMES)].to_numpy(dtype=float),
-            [channels(r) for _, r in frame.iterrows()],  # a few tens of runs, once
-            time_base,
-            hold,
-            pre_pressure,
-        ).reshape(len(rows), len(names))
+        objectives = run_objectives(names, policy, frame, time_base, hold, pre_pressure)
         held = frame.get(HELD_PULL, pd.Series(np.nan, index=frame.index))
-        values.append(np.column_stack([objectives, held.to_numpy(dtype=float)]))
+        values.append(
+            np.column_stack([objectives.reshape(len(rows), len(names)), held.to_numpy(float)])
+        )
     bound = {}
     for j, name in enumerate([*names, HELD_PULL]):
         rho = rank_rho(values[0][:, j], values[1][:, j])

@@ -20,7 +20,7 @@ from ftfof.errors import DataError, SimulationError
 from ftfof.evaluate.choice import Candidate, choice_summary, rhs_candidates
 from ftfof.evaluate.export import ControllerTrajectory, ExportRateError, controller_trajectory
 from ftfof.evaluate.feasible import reference_for
-from ftfof.evaluate.fidelity import Fidelity, fidelity, simulated_objectives
+from ftfof.evaluate.fidelity import Fidelity, fidelity, run_objectives
 from ftfof.evaluate.film_check import FilmCheck
 from ftfof.evaluate.members import judged_front, rounded
 from ftfof.evaluate.repeat import repeatability
@@ -145,12 +145,10 @@ def fidelity_of(
     names = inputs.objectives
     sims = simulated_rows(df)
     predicted = inputs.front.loc[sims.sample_id, names].to_numpy(dtype=float)
-    X = sims[list(DECISION_NAMES)].to_numpy(dtype=float)
-    simulated = simulated_objectives(
+    simulated = run_objectives(
         names,
         ctx.policy,
-        X,
-        [channels(r) for _, r in sims.iterrows()],
+        sims,
         surrogate.time_base(ctx.policy.timing.T3),
         surrogate.hold,
         ctx.robot.pre_pressure,

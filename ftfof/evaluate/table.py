@@ -108,6 +108,12 @@ def climbs_of(record: Mapping[str, Any]) -> dict[str, Any]:
     return {n: row for n, row in record.items() if n not in CLIMB_NOTES}
 
 
+def moved_row(record: Mapping[str, Any]) -> int | None:
+    """The front row the choice moved to where the optimum fell (None: it did not move, or no
+    candidate climbed)."""
+    return (record.get(MOVED) or {}).get("row")
+
+
 def _rounded(figures: Mapping[str, Any]) -> dict[str, Any]:
     return {
         k: round(v, 4) if isinstance(v, float) and not isinstance(v, bool) else v

@@ -92,7 +92,7 @@ def moved_choice(
     why = f"the optimum fell on the robot ({_fall(climbs[OPTIMUM])})"
 
     def fall_of(row: int) -> str | None:
-        name, X = f"candidate_{row}", decision(inputs, row)
+        name, X = _candidate(row), decision(inputs, row)
         spec = spec_for(params, ctx, name, BezierTrajectory(ctx.policy, X), X)
         console.print(f"climb: {why}; the next candidate by RHS's order, row {row}, climbs")
         climbs[name] = climb_all(params, {name: spec}, out_dir / name, 1)[name]
@@ -100,11 +100,16 @@ def moved_choice(
 
     order = fallback_order(candidates)[: params.climb.fallbacks]
     row, tried = first_that_climbs(order, fall_of)
-    if row is None:
-        return {"row": None, "name": None, "why": why, "tried": tried, "decision": None}
-    X = decision(inputs, row).tolist()
-    decided = dict(zip(DECISION_NAMES, X, strict=True))
-    return {"row": row, "name": f"candidate_{row}", "why": why, "tried": tried, "decision": decided}
+    moved = {"row": row, "name": None, "why": why, "tried": tried, "decision": None}
+    if row is not None:
+        X = decision(inputs, row).tolist()
+        moved |= {"name": _candidate(row), "decision": dict(zip(DECISION_NAMES, X, strict=True))}
+    return moved
+
+
+def _candidate(row: int) -> str:
+    """A fallback candidate's name in the climbing table."""
+    return f"candidate_{row}"
 
 
 def _fell(document: dict[str, Any]) -> bool:

@@ -26,7 +26,7 @@ from ftfof.evaluate.run import (
     front_sample,
 )
 from ftfof.evaluate.specs import evaluation_specs
-from ftfof.evaluate.table import MOVED
+from ftfof.evaluate.table import moved_row
 from ftfof.files import atomic_path
 from ftfof.pipeline import tracking
 from ftfof.pipeline.artefacts import (
@@ -107,7 +107,7 @@ def run(params: Params, paths: Paths, workers: int | None = None) -> Evaluation:
             simulations,
             surrogate,
             breaks,
-            (robot.summary["climb"].get(MOVED) or {}).get("row"),
+            moved_row(robot.summary["climb"]),
         )
         result.summary.update(robot.summary)
         html = evaluation_page(

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from ftfof.config import Params
 from ftfof.pipeline.console import console
-from ftfof.study.duration import REFERENCE_PACE, duration, stage_sizes, whole_run
+from ftfof.study.duration import REFERENCE_PACE, REFERENCE_RUN, duration, stage_sizes, whole_run
 
 AFTER_S = 10.0  # s of acquire the estimate waits for (or its end, if sooner)
 
@@ -39,7 +39,7 @@ class FirstSamples:
         whole = duration(whole_run(sizes_of(self.params), pace))
         console.print(
             f"estimate: {pace:.2f} s per sample here ({REFERENCE_PACE:.2f} where `dvc repro` "
-            f"took 9 min 25 s): the whole run should take about "
+            f"took {duration(REFERENCE_RUN)}): the whole run should take about "
             f"{whole} on these params (README, How long it takes)",
             soft_wrap=True,  # one line in a log too
         )

@@ -1,13 +1,13 @@
 """How long a whole `dvc repro` takes on a machine, from its stages' sizes and the machine's pace.
 
 Two runs were measured on 2-core machines: the committed params (the README's stage times,
-`dvc repro` in 9 min 25 s, acquire at 0.131 s per sample) and the tiny profile (its stages'
-seconds scaled to that pace). Each stage's time is interpolated linearly in its size (the loop
-it runs: samples, epochs, generations, climbing steps) between the two, and the sum is scaled by
-this machine's seconds per acquire sample against 0.131 (the stages that simulate are most of
-the run, and the others run on the same cores). A rough figure: it cannot know where early
-stopping ends training, how many of the polish's offspring break a rule and are never
-simulated, or what else the machine will be doing.
+`dvc repro -f` in 26 min 44 s at b1ce044, acquire at 0.286 s per sample) and the tiny profile
+(its stages' seconds scaled to that pace). Each stage's time is interpolated linearly in its size
+(the loop it runs: samples, epochs, generations, climbing steps) between the two, and the sum is
+scaled by this machine's seconds per acquire sample against the committed run's (the stages that
+simulate are most of the run, and the others run on the same cores). A rough figure: it cannot
+know where early stopping ends training, how many of the polish's offspring break a rule and are
+never simulated, or what else the machine will be doing.
 """
 
 from __future__ import annotations
@@ -16,8 +16,9 @@ from dataclasses import dataclass
 
 from ftfof.config import Climb, Evaluate, Optimize, Polish, Refine, Sample, Train
 
-REFERENCE_PACE = 132.0 / 1004  # s per acquire sample in the committed params' run
-OVERHEAD = 45.0  # s of that run outside the stages: DVC, each stage's start, imports
+REFERENCE_PACE = 286.86 / 1004  # s per acquire sample in the committed params' run
+REFERENCE_RUN = 1604.0  # s: that run's `dvc repro -f`, wall
+OVERHEAD = 98.0  # s of that run outside the stages: DVC, each stage's start, imports
 
 
 @dataclass(frozen=True)
@@ -31,16 +32,18 @@ class Stage:
         return max(t0 + (t1 - t0) * (size - s0) / (s1 - s0), 0.0)
 
 
-# the tiny profile's seconds were measured at 0.182 s per acquire sample, here times 0.722
+# the committed run's stages as their reports time them; evaluate is the rest of its wall (the
+# climbs, the slip comparison, the ε study, evaluate, identify). The tiny profile's seconds were
+# measured at 0.182 s per acquire sample, here times 1.57
 STAGES = {
-    "sample": Stage((1000, 4), (40, 1.8)),
-    "acquire": Stage((1000, 132), (40, 5.8)),
-    "dataset": Stage((1000, 1), (40, 0.2)),
-    "train": Stage((400_000, 41), (160, 6.4)),
-    "optimize": Stage((400_000, 44), (480, 2.4)),
-    "refine": Stage((150, 65), (8, 16.7)),
-    "polish": Stage((696, 116), (24, 9.4)),
-    "evaluate": Stage((80, 117), (10, 50.8)),  # Table I's runs the rest
+    "sample": Stage((1000, 3.9), (40, 3.9)),
+    "acquire": Stage((1000, 286.9), (40, 12.6)),
+    "dataset": Stage((1000, 0.8), (40, 0.4)),
+    "train": Stage((400_000, 54.9), (160, 13.9)),
+    "optimize": Stage((400_000, 87.1), (480, 5.2)),
+    "refine": Stage((150, 167.4), (8, 36.3)),
+    "polish": Stage((504, 484.1), (24, 20.4)),
+    "evaluate": Stage((80, 420.9), (10, 110.4)),  # Table I's runs the rest
 }
 
 

@@ -179,7 +179,7 @@ def test_a_log_of_the_run_estimates_it_and_shows_each_climb_as_it_ends(reproduce
     assert found and summary and found.start() < summary.start()
     unit = 60 if found[3] == "min" else 1
     estimate = int(found[2]) * unit
-    # on the tiny profile's sizes, not the paper's (9 min at the reference pace)
+    # on the tiny profile's sizes, not the paper's (27 min at the reference pace)
     expected = whole_run(sizes_of(load_params(repo / "params.yaml")), float(found[1]))
     assert abs(estimate - expected) <= 0.05 * expected + unit, (estimate, expected)
     # of the run's order: the tiny acquire's few seconds of pace are at the mercy of a shared

@@ -94,13 +94,12 @@ def parse(
         raise DataError(source, f"row {back[0] + 3}, column {header!r}: time does not increase")
     if duration is not None and max_speed is not None:
         _plausible(t, values["x"], values["z"], cols, duration, max_speed, source)
-    fz = values["Fz"]  # tension positive
-    channels = _channels(values, fz)
+    channels = _channels(values)
     assert set(channels) == set(CHANNELS)
     scalars = {
         "peak_detachment": float(channels["Fd"].max()),
         "peak_pre_pressure": float(channels["Fp"].max()),
-        **force_peaks(channels["Fx_pad"], fz, np.ones_like(t, dtype=bool)),
+        **force_peaks(channels["Fx_pad"], channels["Fz"], np.ones_like(t, dtype=bool)),
         **proof,
     }
     result = SampleResult(f"imported:{name}", "imported", sample_id, Status.OK, "", 0.0, channels)
@@ -167,10 +166,10 @@ def _values(
     return values
 
 
-def _channels(values: dict[str, np.ndarray], fz: np.ndarray) -> dict[str, np.ndarray]:
-    """The acquisition channels of a log (tension-positive ``fz``): the commanded path is the
-    measured one, and what a force log does not see is NaN."""
-    t = values["time"]
+def _channels(values: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """The acquisition channels of a log (its Fz already tension-positive): the commanded path
+    is the measured one, and what a force log does not see is NaN."""
+    t, fz = values["time"], values["Fz"]
     nan = np.full_like(t, np.nan)
     x, z = values["x"], values["z"]
     return {

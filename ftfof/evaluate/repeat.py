@@ -67,9 +67,7 @@ def repeatability(
     for frame in (p.loc[rows] for p in pair):
         objectives = run_objectives(names, policy, frame, time_base, hold, pre_pressure)
         held = frame.get(HELD_PULL, pd.Series(np.nan, index=frame.index))
-        values.append(
-            np.column_stack([objectives.reshape(len(rows), len(names)), held.to_numpy(float)])
-        )
+        values.append(np.column_stack([objectives, held.to_numpy(float)]))
     bound = {}
     for j, name in enumerate([*names, HELD_PULL]):
         rho = rank_rho(values[0][:, j], values[1][:, j])

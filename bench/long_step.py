@@ -26,11 +26,11 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from ftfof.config.stages import LONG_PHASES
 from ftfof.evaluate.runs import PAPER_OPTIMUM, figures_of
-from ftfof.pipeline.bench import baseline_specs, baseline_trajectories, bench, context_of
+from ftfof.pipeline.bench import baseline_trajectories, bench, context_of
 from ftfof.pipeline.params_file import load_params
 from ftfof.seeds import seed_for
 from ftfof.sim.simulate import simulate
-from ftfof.sim.spec import SampleSpec
+from ftfof.sim.spec import SampleSpec, baseline_specs
 from ftfof.trajectory.sampling import sample_feasible
 from stages.runtime import tune_allocator
 

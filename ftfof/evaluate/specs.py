@@ -55,11 +55,14 @@ def with_step(spec: SampleSpec, step: float) -> SampleSpec:
 
 
 def with_nodes(spec: SampleSpec, nodes: int) -> SampleSpec:
-    """``spec`` on a film of ``nodes`` elements, its source and key prefixed ``FILM``."""
-    return _variant(spec, FILM, nodes=nodes)
+    """``spec`` on a uniform film of ``nodes`` elements (the converged reference, whatever the
+    acquisition's grading), its source and key prefixed ``FILM``."""
+    return _variant(spec, FILM, nodes=nodes, edge_element=None)
 
 
-def _variant(spec: SampleSpec, prefix: str, **solver: float | dict[str, float]) -> SampleSpec:
+def _variant(
+    spec: SampleSpec, prefix: str, **solver: float | dict[str, float] | None
+) -> SampleSpec:
     """``spec`` with ``solver`` settings changed, its source and key prefixed ``prefix``."""
     changed = spec.solver.model_copy(update=solver)
     return replace(spec, key=prefix + spec.key, source=prefix + spec.source, solver=changed)

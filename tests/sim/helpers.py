@@ -55,9 +55,12 @@ def bench(
         }
     )
     r = r.model_copy(update={"platform": mech, **(robot or {})})
+    settings = dict(solver or {})
+    if "nodes" in settings:  # a film of N elements: uniform, unless it says its grading
+        settings.setdefault("edge_element", None)
     acquire = params.acquire.model_copy(
         update={
-            "solver": params.acquire.solver.model_copy(update=solver or {}),
+            "solver": params.acquire.solver.model_copy(update=settings),
             "leg_model": leg_model,
         }
     )

@@ -99,9 +99,11 @@ def main(n: int, revision: str, rounds: int) -> None:
     for name, rows in (("Table I", new.table), (f"{n} sampled", ~new.table)):
         c = change[rows].abs()
         total = new.seconds[rows].sum() / old.seconds[rows].sum()
-        print(f"{name}: CPU {total:.3f}x in all ({old.seconds[rows].mean():.3f} -> "
-              f"{new.seconds[rows].mean():.3f} s a run); held alike in "
-              f"{int((new.held[rows] == old.held[rows]).sum())} of {int(rows.sum())}")
+        print(
+            f"{name}: CPU {total:.3f}x in all ({old.seconds[rows].mean():.3f} -> "
+            f"{new.seconds[rows].mean():.3f} s a run); held alike in "
+            f"{int((new.held[rows] == old.held[rows]).sum())} of {int(rows.sum())}"
+        )
         print("   largest |change| %:", c.max().round(4).to_dict())
         over = c[(c > pd.Series({f: TOLERANCE.get(f, 1.0) for f in FIGURES})).any(axis=1)]
         if len(over):

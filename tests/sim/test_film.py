@@ -4,21 +4,16 @@ from concurrent.futures import ProcessPoolExecutor
 from dataclasses import replace
 
 import numpy as np
-import pandas as pd
 import pytest
 
-from ftfof.evaluate.runs import figures_of
-from ftfof.pipeline.bench import baseline_trajectories, context_of
 from ftfof.pipeline.simcheck import simulator_check_of as simulator_check
 from ftfof.rules import foot_rules
 from ftfof.sim import film
 from ftfof.sim.simulate import simulate
-from ftfof.sim.spec import baseline_specs
 from ftfof.trajectory.baselines import Polynomial
 from tests.sim.helpers import ACRYLIC_ON_GRIP, GRIP, PUBLISHED, bench, grip_robot
 
 # A Bezier that drags the foot forward 3-4 mm off the wall for 50 mm before it swings
-BASELINES = ("polynomial", "cycloidal", "random_bezier", "eps_bezier")
 LOW_DRAG = np.array([10.0, 30.0, 50.0, 80.0, 120.0, 120.0, 3.0, 3.0, 4.0, 30.0, 20.0, 10.0]) / 1000
 
 
@@ -114,37 +109,15 @@ def test_min_bend_radius_converges_with_the_node_count(params):
     between the plate and the wall below fc (1.7 mm), and the rule refuses it. The bend's
     curvature moves by less than a tenth of fc's from N = 20 to 40 and from 40 to 80 (curvature,
     not radius: a nearly flat film's radius swings widely at no risk to the film: the polynomial's
-    by 21 %, Pf's by 34 %, at most 0.05 / fc)."""
+    by 21 %, Pf's by 34 %, at most 0.05 / fc). The acquisition runs at N = 40: the climbs' stance
+    pads need it (decision 0047)."""
     radius = _bends(params, None)
     limit = film.film_limit(params.selected_robot, params.selected_surface)
     curvature_change = np.abs(np.diff(1.0 / radius, axis=0)) * limit.fc
     assert np.all(curvature_change < 0.10), radius
+    assert params.acquire.solver.nodes >= 40
     assert np.all(radius[:, :2] > 3 * limit.fc), radius  # the plate carries the film
     assert np.all(radius[:, 2] < limit.fc), radius  # a low drag still folds it
-
-
-@pytest.mark.integration
-def test_the_acquisitions_graded_film_keeps_table_one_as_forty_uniform_elements(params):
-    """The acquisition's 30 graded elements (decision 0047) against 40 uniform ones, on Table I's
-    four baselines and Pf: pull, landing press, detachment jitter and held pull within 1 %, the
-    bend's curvature within a tenth of fc's (measured: 0.19, 0.38, 0.93 and 0.46 % at most)."""
-    solver = params.acquire.solver
-    assert solver.nodes == 30 and solver.edge_element == pytest.approx(0.00125)
-    trajectories = baseline_trajectories(params, context_of(params))
-    specs = []
-    for b in (bench(params), bench(params, solver={"nodes": 40})):
-        specs += baseline_specs(b, trajectories, BASELINES) + [b.bezier("pf", 0, PUBLISHED)]
-    with ProcessPoolExecutor(2) as pool:
-        graded, uniform = np.split(np.array(list(pool.map(simulate, specs))), 2)
-    fc = film.film_limit(params.selected_robot, params.selected_surface).fc
-    T3 = params.selected_robot.timing.T3
-    for a, b in zip(graded, uniform, strict=True):
-        assert a.ok and b.ok, (a.error, b.error)
-        ours, theirs = (figures_of(pd.Series({**r.scalars, **r.channels}), T3) for r in (a, b))
-        for name in ("peak_pull", "landing_pre_pressure", "jitter", "held_pull"):
-            assert ours[name] == pytest.approx(theirs[name], rel=0.01), (a.key, name)
-        bend = abs(1 / ours["min_bend_radius"] - 1 / theirs["min_bend_radius"]) * fc
-        assert bend < 0.10, (a.key, ours["min_bend_radius"], theirs["min_bend_radius"])
 
 
 @pytest.mark.integration

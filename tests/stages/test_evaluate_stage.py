@@ -137,7 +137,7 @@ def test_metrics_table_and_controller_export(evaluated):
         assert row["min_bend_radius"] > 0
     # every run again on the check film: the optimum, the front members and Table I's rows
     films = metrics["film_check"]
-    assert films["nodes"] == 30 and films["check_nodes"] == 80 and not films["missing"]
+    assert films["nodes"] == 40 and films["check_nodes"] == 80 and not films["missing"]
     assert set(films["radius"]) == {*ROWS, *(f"front {m['row']}" for m in front["members"][1:])}
     for m in front["members"]:
         assert (

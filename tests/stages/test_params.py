@@ -89,7 +89,7 @@ def test_a_check_step_not_finer_than_the_acquisition_step_is_named(tmp_path, par
 def test_a_check_film_not_finer_than_the_acquisition_film_is_named(tmp_path, params_dict):
     params_dict["evaluate"]["check_nodes"] = params_dict["acquire"]["solver"]["nodes"]
     msg = _error(tmp_path, params_dict)
-    assert "evaluate.check_nodes: 30 film elements are not finer than acquire.solver.nodes" in msg
+    assert "evaluate.check_nodes: 40 film elements are not finer than acquire.solver.nodes" in msg
 
 
 def test_a_film_too_thick_to_survive_its_fc_is_named(tmp_path, params_dict):

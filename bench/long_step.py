@@ -24,14 +24,11 @@ import pandas as pd
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from bench.against_revision import specs_of
 from ftfof.config.stages import LONG_PHASES
-from ftfof.evaluate.runs import PAPER_OPTIMUM, figures_of
-from ftfof.pipeline.bench import baseline_trajectories, bench, context_of
-from ftfof.pipeline.params_file import load_params
-from ftfof.seeds import seed_for
+from ftfof.evaluate.runs import figures_of
 from ftfof.sim.simulate import simulate
-from ftfof.sim.spec import SampleSpec, baseline_specs
-from ftfof.trajectory.sampling import sample_feasible
+from ftfof.sim.spec import SampleSpec
 from stages.runtime import tune_allocator
 
 FIGURES = (
@@ -64,15 +61,7 @@ def with_schedule(spec: SampleSpec, schedule: dict[str, float]) -> SampleSpec:
 
 def main(n: int, sets: list[str], rounds: int, long: float) -> None:
     tune_allocator()
-    params = load_params(Path(__file__).resolve().parents[1] / "params.yaml")
-    ctx = context_of(params)
-    on = bench(params, ctx)
-    specs = baseline_specs(on, baseline_trajectories(params, ctx))
-    specs.append(on.bezier(PAPER_OPTIMUM, 0, np.asarray(ctx.robot.published_optimum)))
-    if n:
-        X = sample_feasible(ctx.policy, n, seed=seed_for(params.base.seed, "bench")).X
-        specs += [on.bezier("sampled", i, x) for i, x in enumerate(X)]
-    T3 = ctx.policy.timing.T3
+    specs, T3 = specs_of(n)
     simulate(specs[0])  # warm-up
     settings = [("today", {}), *((s, schedule_of(s, long)) for s in sets)]
     rows, repeats = [], 0

@@ -18,7 +18,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from bench.film_elements import parse_film
+from bench.film_elements import film_settings
 from ftfof.climb.simulate import climb
 from ftfof.climb.specs import ClimbSpec, controller_specs
 from ftfof.evaluate.pick import Source
@@ -42,12 +42,12 @@ def spec_of(what: str) -> ClimbSpec:
 
 
 def on_film(spec: ClimbSpec, label: str) -> ClimbSpec:
-    nodes, edge = parse_film(label)
-    solver = spec.solver.model_copy(update={"nodes": nodes, "edge_element": edge})
-    return replace(spec, solver=solver)
+    """``spec`` climbed with the pads on the film ``label``."""
+    return replace(spec, solver=spec.solver.model_copy(update=film_settings(label)))
 
 
 def run(job: tuple[ClimbSpec, str, float | None]) -> str:
+    """One film's climb in a worker: how it ended, how far it got and its wall seconds."""
     spec, label, duration = job
     start = time.perf_counter()
     result = climb(on_film(spec, label), duration=duration)

@@ -47,10 +47,15 @@ def parse_film(label: str) -> tuple[int, float | None]:
     return int(count), float(edge) / 1000 if edge else None
 
 
+def film_settings(label: str) -> dict[str, int | float | None]:
+    """The solver settings of the film ``label`` (``nodes`` and ``edge_element``)."""
+    nodes, edge = parse_film(label)
+    return {"nodes": nodes, "edge_element": edge}
+
+
 def on_film(spec: SampleSpec, label: str) -> SampleSpec:
     """``spec`` simulated on the film ``label``."""
-    nodes, edge = parse_film(label)
-    solver = spec.solver.model_copy(update={"nodes": nodes, "edge_element": edge})
+    solver = spec.solver.model_copy(update=film_settings(label))
     return dataclasses.replace(spec, key=f"{spec.key}:{label}", solver=solver)
 
 

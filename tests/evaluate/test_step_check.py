@@ -1,9 +1,6 @@
 """Table I's figures at two solver steps: changes against the reference at each, how far the
 optimum's moved, and runs that failed at one step."""
 
-from dataclasses import replace
-
-import numpy as np
 import pytest
 
 from ftfof.evaluate.step_check import CHECKED, LOWER_IS_BETTER, step_check
@@ -62,22 +59,3 @@ def test_the_check_runs_at_one_step_throughout_under_its_own_key(params):
     assert fine.key == "fine:baseline:polynomial:0" and fine.source == "fine:baseline:polynomial"
     assert fine.seed == spec.seed and fine.trajectory is spec.trajectory
     assert spec.solver.step == params.acquire.solver.step  # the original is untouched
-
-
-def test_the_check_film_is_uniform_whatever_the_acquisitions_grading(params):
-    """Evaluate's check film is the converged reference, N uniform elements: a graded acquisition
-    film (``edge_element``) does not carry over, or 80 elements of 1.25 mm would not fit the pad."""
-    from ftfof.evaluate.specs import with_nodes
-    from ftfof.pipeline.bench import bench, context_of
-    from ftfof.sim.bonds import BondLaw
-    from ftfof.sim.model import build
-
-    ctx = context_of(params)
-    spec = bench(params, ctx).bezier("pf", 0, np.asarray(ctx.robot.published_optimum))
-    grading = {"nodes": 30, "edge_element": 1.25e-3}
-    graded = replace(spec, solver=spec.solver.model_copy(update=grading))
-    check = with_nodes(graded, 80)
-    assert check.solver.nodes == 80 and check.solver.edge_element is None
-    assert check.key == "film:pf:0" and graded.solver.edge_element == 1.25e-3
-    built = build(check, BondLaw.from_surface(check.surface, check.solver.contact_smoothing))
-    np.testing.assert_allclose(np.diff(built.x_ref), built.x_ref[-1] / 80)

@@ -56,7 +56,7 @@ def bench(
     )
     r = r.model_copy(update={"platform": mech, **(robot or {})})
     settings = dict(solver or {})
-    if "nodes" in settings:  # a film of N elements: uniform, unless it says its grading
+    if "nodes" in settings:  # a film of N elements is uniform, whatever params grade (today: none)
         settings.setdefault("edge_element", None)
     acquire = params.acquire.model_copy(
         update={

@@ -13,8 +13,6 @@ Run: python bench/against_revision.py [n_samples] [revision] [rounds]   (default
 from __future__ import annotations
 
 import sys
-import time
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -23,6 +21,7 @@ import pandas as pd
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from bench.common import least_cpu
 from bench.reference import reference_simulate
 from ftfof.evaluate.runs import PAPER_OPTIMUM, figures_of
 from ftfof.pipeline.bench import baseline_trajectories, bench, context_of
@@ -42,16 +41,6 @@ FIGURES = (
     "held_pull",
 )
 TOLERANCE = {"min_bend_radius": 5.0}  # %, every other figure 1 %
-
-
-def least_cpu(fn: Callable[[], Any], rounds: int) -> tuple[float, Any]:
-    """The least CPU seconds of ``rounds`` calls, and the first call's result."""
-    seconds, results = [], []
-    for _ in range(rounds):
-        start = time.process_time()
-        results.append(fn())
-        seconds.append(time.process_time() - start)
-    return min(seconds), results[0]
 
 
 def specs_of(n: int) -> tuple[list[SampleSpec], float]:
@@ -89,10 +78,10 @@ def main(n: int, revision: str, rounds: int) -> None:
     before_simulate(specs[0])
     before, after = [], []
     for spec in specs:
-        seconds, result = least_cpu(lambda s=spec: before_simulate(s), rounds)
-        before.append(row_of(spec, result, T3, seconds))
-        seconds, result = least_cpu(lambda s=spec: simulate(s), rounds)
-        after.append(row_of(spec, result, T3, seconds))
+        seconds, results = least_cpu(lambda s=spec: before_simulate(s), rounds)
+        before.append(row_of(spec, results[0], T3, seconds))
+        seconds, results = least_cpu(lambda s=spec: simulate(s), rounds)
+        after.append(row_of(spec, results[0], T3, seconds))
         print(".", end="", flush=True)
     print()
     old, new = pd.DataFrame(before).set_index("run"), pd.DataFrame(after).set_index("run")

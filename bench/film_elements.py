@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import dataclasses
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -24,6 +23,7 @@ import pandas as pd
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from bench.common import least_cpu
 from ftfof.evaluate.runs import PAPER_OPTIMUM, figures_of
 from ftfof.pipeline.bench import baseline_trajectories, bench, context_of
 from ftfof.pipeline.params_file import load_params
@@ -64,15 +64,12 @@ def run_all(specs: list[SampleSpec], films: list[str], rounds: int, T3: float) -
     rows = []
     for spec in specs:
         for label in films:
-            seconds = []
-            for _ in range(rounds):
-                start = time.process_time()
-                result = simulate(on_film(spec, label))
-                seconds.append(time.process_time() - start)
-                assert result.ok, result.error
+            seconds, runs = least_cpu(lambda s=spec, f=label: simulate(on_film(s, f)), rounds)
+            assert all(r.ok for r in runs), runs[0].error
+            result = runs[-1]
             figures = figures_of(pd.Series({**result.scalars, **result.channels}), T3)
             name = spec.source.removeprefix("baseline:")
-            rows.append({"name": name, "film": label, **figures, "seconds": min(seconds)})
+            rows.append({"name": name, "film": label, **figures, "seconds": seconds})
     return pd.DataFrame(rows).set_index(["name", "film"])
 
 
